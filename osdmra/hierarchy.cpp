@@ -1,0 +1,199 @@
+#include "osdmra/hierarchy.h"
+
+#include <opensubdiv/far/error.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include "osdmra/error.h"
+
+namespace osdmra {
+
+namespace Far = OpenSubdiv::Far;
+namespace Sdc = OpenSubdiv::Sdc;
+
+const char* schemeName(Scheme s) { return s == Scheme::Loop ? "loop" : "linear"; }
+
+Scheme parseScheme(const std::string& name) {
+  if (name == "loop") return Scheme::Loop;
+  if (name == "linear" || name == "polyhedral") return Scheme::Linear;
+  throw Error("unknown scheme '" + name + "' (expected loop or linear)");
+}
+
+namespace {
+
+// OpenSubdiv reports errors through a global callback; we keep the last message of
+// this thread and turn a failed factory call into an Error.
+thread_local std::string lastFarError;
+void farErrorCallback(Far::ErrorType, const char* message) { lastFarError = message; }
+void farWarningCallback(const char*) {}
+std::once_flag callbackOnce;
+
+// A primvar that records (row, column, weight) instead of adding values: driving
+// PrimvarRefiner with it yields the refinement matrix itself.
+struct Source {
+  int index;
+};
+struct Collector {
+  std::vector<Eigen::Triplet<double>>* out;
+  int row;
+  void Clear() {}
+  void AddWithWeight(const Source& s, double w) { out->emplace_back(row, s.index, w); }
+  // Only reached for schemes with face-centre vertices (never for Loop on triangles),
+  // which PrimvarRefiner instantiates regardless.
+  void AddWithWeight(const Collector&, double) {
+    throw Error("internal: unexpected face-vertex interpolation in a Loop refinement");
+  }
+};
+struct CollectorArray {
+  std::vector<Eigen::Triplet<double>>* out;
+  Collector operator[](int i) const { return Collector{out, i}; }
+};
+struct SourceArray {
+  Source operator[](int i) const { return Source{i}; }
+};
+
+}  // namespace
+
+struct Hierarchy::Impl {
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  std::vector<Faces> faces;
+  std::vector<Connectivity> conn;
+  std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
+  mutable std::vector<SparseMatrix> P[2];
+  mutable std::mutex mutex;
+};
+
+Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
+    : impl_(std::make_unique<Impl>()) {
+  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
+  std::call_once(callbackOnce, [] {
+    Far::SetErrorCallback(farErrorCallback);
+    Far::SetWarningCallback(farWarningCallback);
+  });
+
+  std::vector<int> vertsPerFace(baseFaces.rows(), 3);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = numBaseVertices;
+  desc.numFaces = static_cast<int>(baseFaces.rows());
+  desc.numVertsPerFace = vertsPerFace.data();
+  desc.vertIndicesPerFace = baseFaces.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  lastFarError.clear();
+  impl_->refiner.reset(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  if (!impl_->refiner) throw Error("OpenSubdiv rejected the base mesh: " + lastFarError);
+  if (levels > 0) {
+    Far::TopologyRefiner::UniformOptions uniform(levels);
+    uniform.fullTopologyInLastLevel = true;
+    impl_->refiner->RefineUniform(uniform);
+  }
+
+  const Far::TopologyRefiner& R = *impl_->refiner;
+  for (int j = 0; j <= levels; ++j) {
+    const Far::TopologyLevel& L = R.GetLevel(j);
+    Faces F(L.GetNumFaces(), 3);
+    for (int f = 0; f < L.GetNumFaces(); ++f) {
+      auto fv = L.GetFaceVertices(f);
+      for (int i = 0; i < 3; ++i) F(f, i) = fv[i];
+    }
+    std::vector<std::array<int, 2>> E(L.GetNumEdges());
+    for (int e = 0; e < L.GetNumEdges(); ++e) {
+      auto ev = L.GetEdgeVertices(e);
+      E[e] = {ev[0], ev[1]};
+    }
+    // Check the index conventions of the file comment against the refiner itself.
+    if (j < levels) {
+      const int n = L.GetNumVertices();
+      for (int v = 0; v < n; ++v)
+        if (L.GetVertexChildVertex(v) != v)
+          throw Error("OpenSubdiv vertex ordering is not vertices-first at level " + std::to_string(j));
+      for (int e = 0; e < L.GetNumEdges(); ++e)
+        if (L.GetEdgeChildVertex(e) != n + e)
+          throw Error("OpenSubdiv edge-vertex ordering unexpected at level " + std::to_string(j));
+      for (int f = 0; f < L.GetNumFaces(); ++f) {
+        auto cf = L.GetFaceChildFaces(f);
+        for (int i = 0; i < cf.size(); ++i)
+          if (cf[i] != 4 * f + i)
+            throw Error("OpenSubdiv child-face ordering unexpected at level " + std::to_string(j));
+      }
+    }
+    impl_->conn.emplace_back(F, L.GetNumVertices());
+    impl_->faces.push_back(std::move(F));
+    impl_->edges.push_back(std::move(E));
+  }
+  impl_->P[0].resize(levels);
+  impl_->P[1].resize(levels);
+}
+
+Hierarchy::~Hierarchy() = default;
+Hierarchy::Hierarchy(Hierarchy&&) noexcept = default;
+Hierarchy& Hierarchy::operator=(Hierarchy&&) noexcept = default;
+
+int Hierarchy::levels() const { return static_cast<int>(impl_->faces.size()) - 1; }
+int Hierarchy::numVertices(int j) const { return impl_->conn[j].numVertices(); }
+int Hierarchy::numFaces(int j) const { return static_cast<int>(impl_->faces[j].rows()); }
+const Faces& Hierarchy::faces(int j) const { return impl_->faces[j]; }
+const Connectivity& Hierarchy::connectivity(int j) const { return impl_->conn[j]; }
+
+std::array<int, 2> Hierarchy::parentEdge(int j, int e) const { return impl_->edges[j][e]; }
+
+int Hierarchy::midpoint(int j, int a, int b) const {
+  const Far::TopologyLevel& L = impl_->refiner->GetLevel(j);
+  const int e = L.FindEdge(a, b);
+  return e < 0 ? -1 : numVertices(j) + e;
+}
+
+const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {
+  if (j < 0 || j >= levels())
+    throw Error("refinement level " + std::to_string(j) + " out of range 0.." +
+                std::to_string(levels() - 1));
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  SparseMatrix& P = impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
+  if (P.rows() == 0) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(static_cast<std::size_t>(numVertices(j + 1)) * (scheme == Scheme::Loop ? 7 : 2));
+    Far::PrimvarRefinerReal<double> refiner(*impl_->refiner);
+    SourceArray src;
+    CollectorArray dst{&triplets};
+    if (scheme == Scheme::Loop)
+      refiner.Interpolate(j + 1, src, dst);
+    else
+      refiner.InterpolateVarying(j + 1, src, dst);
+    P.resize(numVertices(j + 1), numVertices(j));
+    P.setFromTriplets(triplets.begin(), triplets.end());
+    P.makeCompressed();
+  }
+  return P;
+}
+
+Faces Hierarchy::baseFacesFromCanonical(const Faces& finest, int levels) {
+  const long long stride = 1LL << (2 * levels);
+  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15");
+  if (finest.rows() == 0 || finest.rows() % stride != 0) {
+    std::ostringstream os;
+    os << "a mesh of " << finest.rows() << " faces cannot be " << levels
+       << " uniform refinements in canonical order (the face count must be a multiple of 4^"
+       << levels << ")";
+    throw Error(os.str());
+  }
+  // Corner i of base face f is corner i of the level-J face reached by always taking
+  // the child at corner i: child index i at every level.
+  Faces base(finest.rows() / stride, 3);
+  for (Eigen::Index f = 0; f < base.rows(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      long long g = f;
+      for (int l = 0; l < levels; ++l) g = 4 * g + i;
+      base(f, i) = finest(g, i);
+    }
+  return base;
+}
+
+}  // namespace osdmra
