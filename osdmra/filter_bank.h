@@ -1,0 +1,49 @@
+// FilterBank: linear-time analysis and synthesis in lifted form (math.md section 4).
+//
+//   synthesis:  u = c^j - alpha d^j;  c^{j+1}_old = P_old u;  c^{j+1}_new = P_new u + d^j
+//   analysis:   solve P_old u = c^{j+1}_old;  d^j = c^{j+1}_new - P_new u;  c^j = u + alpha d^j
+//
+// This is c^{j+1} = P c^j + Q d^j with Q = E - P alpha (paper sections 2.2, 3.3)
+// without ever forming Q or [P Q]^{-1}. Polyhedral: P_old is the identity and every
+// step is local. Loop: P_old is Loop's vertex rule on M^j, the one non-local step,
+// solved by preconditioned BiCGSTAB (constant iteration count, so linear time); a
+// singular P_old is reported with its level.
+#pragma once
+
+#include <vector>
+
+#include "osdmra/decomposition.h"
+#include "osdmra/hierarchy.h"
+#include "osdmra/progress.h"
+#include "osdmra/wavelets.h"
+
+namespace osdmra {
+
+/// Everything analysis and synthesis need for one hierarchy, scheme and wavelet
+/// choice; build once, then analyse or synthesise any number of surfaces.
+struct FilterBank {
+  Scheme scheme = Scheme::Loop;
+  WaveletOptions wavelets;
+  const Hierarchy* hierarchy = nullptr;  ///< not owned; must outlive the filter bank
+  std::vector<SparseMatrix> alpha;       ///< alpha^j, j = 0..J-1 (wavelets.h)
+  WaveletStats stats;
+};
+
+FilterBank makeFilterBank(const Hierarchy& h, Scheme scheme, const WaveletOptions& wavelets,
+                          const Progress& progress = {});
+
+/// Decomposes c^J (n_J x 3, canonical order) into c^0 and d^0..d^{J-1}.
+/// The result's baseFaces, scheme, wavelets and levels are filled in.
+Decomposition analyze(const FilterBank& bank, const Points& finest, const Progress& progress = {});
+
+/// Rebuilds c^level (0 <= level <= J) from c^0 and d^0..d^{level-1}.
+Points synthesize(const FilterBank& bank, const Decomposition& d, int level,
+                  const Progress& progress = {});
+
+/// One analysis step: c^{j+1} -> (c^j, d^j).
+void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coarse,
+                  Points& detail);
+/// One synthesis step: (c^j, d^j) -> c^{j+1}.
+Points synthesisStep(const FilterBank& bank, int j, const Points& coarse, const Points& detail);
+
+}  // namespace osdmra
