@@ -25,7 +25,7 @@ struct WaveletOptions {
   WaveletKind kind = WaveletKind::Quasi;
   /// Quasi-wavelets: rings around the parent edge {a,b} allowed in the correction;
   /// 0 means {a,b} only. Rings r cover the paper's (r+1)-disc around each of a, b.
-  int rings = 1;
+  int rings = 1;  // kDefaultRings in wavelets.h
 };
 
 struct Decomposition {

@@ -196,4 +196,94 @@ Faces Hierarchy::baseFacesFromCanonical(const Faces& finest, int levels) {
   return base;
 }
 
+namespace {
+
+// Vertex count of M^levels over `base`, from Euler's relations for a 1-to-4 split:
+// n' = n + E, E' = 2E + 3F, F' = 4F. Returns -1 on overflow of int.
+long long predictedVertices(const Faces& base, int n0, int levels) {
+  const Connectivity c(base, n0);
+  long long n = n0, e = c.numEdges(), f = base.rows();
+  for (int j = 0; j < levels; ++j) {
+    n += e;
+    e = 2 * e + 3 * f;
+    f *= 4;
+  }
+  return n;
+}
+
+// Base faces and vertex count if `finest` can be canonical at `levels`, else false.
+bool canonicalBase(const Faces& finest, int numVertices, int levels, Faces& base, int& n0,
+                   std::string& why) {
+  if (finest.rows() == 0 || finest.rows() % (1LL << (2 * levels)) != 0) {
+    why = "the face count " + std::to_string(finest.rows()) + " is not a multiple of 4^" +
+          std::to_string(levels);
+    return false;
+  }
+  base = Hierarchy::baseFacesFromCanonical(finest, levels);
+  n0 = base.rows() ? base.maxCoeff() + 1 : 0;
+  if (base.minCoeff() < 0 || n0 > numVertices) {
+    why = "base face indices are out of range";
+    return false;
+  }
+  std::vector<char> used(n0, 0);
+  for (Eigen::Index i = 0; i < base.size(); ++i) used[base.data()[i]] = 1;
+  for (int v = 0; v < n0; ++v)
+    if (!used[v]) {
+      why = "vertex " + std::to_string(v) + " is not a corner of the implied base mesh";
+      return false;
+    }
+  const Connectivity c(base, n0);
+  if (c.firstNonManifoldEdgeFace >= 0 || c.firstFlippedFace >= 0 || c.firstNonManifoldVertex >= 0) {
+    why = "the implied base mesh is not a manifold";
+    return false;
+  }
+  const long long expected = predictedVertices(base, n0, levels);
+  if (expected != numVertices) {
+    why = "the implied base mesh of " + std::to_string(base.rows()) + " faces gives " +
+          std::to_string(expected) + " vertices at level " + std::to_string(levels) + ", not " +
+          std::to_string(numVertices);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Hierarchy Hierarchy::fromCanonical(const Faces& finest, int numVertices, int levels) {
+  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  Faces base;
+  int n0 = 0;
+  std::string why;
+  if (!canonicalBase(finest, numVertices, levels, base, n0, why))
+    throw Error("not in osdmra's canonical order for " + std::to_string(levels) + " levels: " + why);
+  Hierarchy h(base, n0, levels);
+  const Faces& F = h.faces(levels);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (F.row(f) != finest.row(f)) {
+      std::ostringstream os;
+      os << "not in osdmra's canonical order for " << levels << " levels: face " << f << " is ("
+         << finest(f, 0) << " " << finest(f, 1) << " " << finest(f, 2) << "), expected (" << F(f, 0)
+         << " " << F(f, 1) << " " << F(f, 2) << ")";
+      throw Error(os.str());
+    }
+  return h;
+}
+
+int Hierarchy::detectCanonicalLevels(const Faces& finest, int numVertices) {
+  int J = 0;
+  while (J < 15 && finest.rows() % (1LL << (2 * (J + 1))) == 0) ++J;
+  for (; J > 0; --J) {
+    Faces base;
+    int n0 = 0;
+    std::string why;
+    if (!canonicalBase(finest, numVertices, J, base, n0, why)) continue;
+    try {
+      fromCanonical(finest, numVertices, J);
+      return J;
+    } catch (const Error&) {
+    }
+  }
+  return 0;
+}
+
 }  // namespace osdmra

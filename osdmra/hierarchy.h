@@ -18,6 +18,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "osdmra/connectivity.h"
@@ -64,6 +65,15 @@ class Hierarchy {
   /// The base faces of a mesh given in canonical order at level `levels` (see the
   /// file comment). Throws Error when the faces cannot be in that order.
   static Faces baseFacesFromCanonical(const Faces& finest, int levels);
+
+  /// The hierarchy whose level `levels` is exactly `finest` (canonical order, with
+  /// `numVertices` vertices). Throws Error naming the first face or count that
+  /// disagrees, so a mesh in any other order is refused rather than misread.
+  static Hierarchy fromCanonical(const Faces& finest, int numVertices, int levels);
+
+  /// The largest J for which fromCanonical(finest, numVertices, J) succeeds; 0 when
+  /// the mesh is not in canonical order at any level.
+  static int detectCanonicalLevels(const Faces& finest, int numVertices);
 
  private:
   struct Impl;

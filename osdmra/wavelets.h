@@ -28,6 +28,10 @@
 
 namespace osdmra {
 
+/// Default number of rings of quasi-wavelets (chosen from the measurements in
+/// docs/WAVELETS.md).
+constexpr int kDefaultRings = 1;
+
 /// Largest finest-level vertex count for which pre-wavelets (dense) are allowed.
 constexpr int kMaxPreWaveletVertices = 5000;
 
