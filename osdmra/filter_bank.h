@@ -25,7 +25,7 @@ struct FilterBank {
   Scheme scheme = Scheme::Loop;
   WaveletOptions wavelets;
   const Hierarchy* hierarchy = nullptr;  ///< not owned; must outlive the filter bank
-  std::vector<SparseMatrix> alpha;       ///< alpha^j, j = 0..J-1 (wavelets.h)
+  std::vector<AlphaMatrix> alpha;        ///< alpha^j, j = 0..J-1 (wavelets.h)
   WaveletStats stats;
 };
 

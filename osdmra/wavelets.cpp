@@ -2,6 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -43,7 +45,7 @@ class EdgeBall {
   explicit EdgeBall(const Connectivity& conn)
       : conn_(conn), pos_(conn.numVertices(), -1), from_(conn.numVertices(), -1) {}
 
-  void build(int a, int b, int K) {
+  void build(int a, int b, int K, bool encode = true) {
     verts.assign({a, b});
     depth_.assign({0, 0});
     pos_[a] = 0;
@@ -60,9 +62,13 @@ class EdgeBall {
       for (int s = 0; s < k; ++s)
         if (ring[s] == from_[u]) start = s;
       const bool boundary = conn_.isBoundaryVertex(u);
-      key.push_back(boundary ? 1 : 0);
-      key.push_back(k);
-      key.push_back(boundary ? start : 0);
+      if (encode) {
+        key.push_back(boundary ? 1 : 0);
+        key.push_back(k);
+        key.push_back(boundary ? start : 0);
+      } else if (d >= K) {
+        continue;
+      }
       for (int s = 0; s < k; ++s) {
         const int w = ring[(start + s) % k];
         if (pos_[w] < 0 && d < K) {
@@ -71,7 +77,7 @@ class EdgeBall {
           verts.push_back(w);
           depth_.push_back(d + 1);
         }
-        key.push_back(pos_[w]);
+        if (encode) key.push_back(pos_[w]);
       }
     }
   }
@@ -102,7 +108,62 @@ Eigen::VectorXd projectColumn(const std::vector<std::pair<int, double>>& column,
   return b;
 }
 
-SparseMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& elements) {
+// Which vertices of a level have a "lattice" neighbourhood: every vertex within R
+// edges is interior with valence 6 and the R-ball does not wrap around (a torus of
+// a small base does), i.e. it holds exactly the 1 + 3R(R+1) vertices of the
+// triangular lattice's. Refinement keeps such balls lattice-like (the R-ball of a
+// level-(j+1) vertex lies in the refinement of its parent's R-ball, R >= 2), so only
+// vertices whose parents lack the property are searched.
+class LatticeBalls {
+ public:
+  explicit LatticeBalls(int R) : R_(R) {}
+
+  /// Advances to level j of h (call for j = 0, 1, ... in order).
+  void advance(const Hierarchy& h, int j) {
+    const Connectivity& conn = h.connectivity(j);
+    const int n = conn.numVertices();
+    std::vector<char> next(n, 0);
+    if (j > 0) {
+      const int nc = h.numVertices(j - 1);
+      for (int v = 0; v < nc; ++v) next[v] = ok_[v];
+      for (int e = 0; e < n - nc; ++e) {
+        const auto [a, b] = h.parentEdge(j - 1, e);
+        next[nc + e] = ok_[a] || ok_[b];
+      }
+    }
+    mark_.assign(n, 0);
+    for (int v = 0; v < n; ++v)
+      if (!next[v]) next[v] = search(conn, v);
+    ok_ = std::move(next);
+  }
+  bool operator()(int v) const { return ok_[v] != 0; }
+
+ private:
+  bool search(const Connectivity& conn, int v) {
+    queue_.assign({v});
+    depth_.assign({0});
+    mark_[v] = 1;
+    bool ok = true;
+    for (std::size_t i = 0; i < queue_.size() && ok; ++i) {
+      const int u = queue_[i];
+      if (conn.isBoundaryVertex(u) || conn.valence(u) != 6) ok = false;
+      if (depth_[i] == R_) continue;
+      for (int w : conn.ring(u))
+        if (!mark_[w]) {
+          mark_[w] = 1;
+          queue_.push_back(w);
+          depth_.push_back(depth_[i] + 1);
+        }
+    }
+    for (int u : queue_) mark_[u] = 0;
+    return ok && static_cast<int>(queue_.size()) == 1 + 3 * R_ * (R_ + 1);
+  }
+  int R_;
+  std::vector<char> ok_, mark_;
+  std::vector<int> queue_, depth_;
+};
+
+AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& elements) {
   const int n = h.numVertices(j), nn = h.numVertices(j + 1);
   const SparseMatrix Ij = gram(h.connectivity(j), j, elements);
   const SparseMatrix Ij1 = gram(h.connectivity(j + 1), j + 1, elements);
@@ -117,11 +178,11 @@ SparseMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& 
 
 }  // namespace
 
-std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                                              const WaveletOptions& options,
                                              const Progress& progress, WaveletStats* stats) {
   const int J = h.levels();
-  std::vector<SparseMatrix> alphas(J);
+  std::vector<AlphaMatrix> alphas(J);
   if (options.kind == WaveletKind::Quasi && (options.rings < 0 || options.rings > 8))
     throw Error("rings must be in 0..8, got " + std::to_string(options.rings));
   if (options.kind == WaveletKind::Pre && h.numVertices(J) > kMaxPreWaveletVertices)
@@ -136,6 +197,9 @@ std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
   // Radius that determines alpha: r rings of S, plus the reach of the Gram entries
   // (supports and element types: 3 rings for Loop, 1 for polyhedral) and of b.
   const int K = r + (scheme == Scheme::Loop ? 4 : 2);
+  Eigen::VectorXd regularAlpha;
+  // The K-ball of edge {a, b} lies in the (K+1)-balls of a and of b.
+  LatticeBalls lattice(K + 1);
 
   for (int j = 0; j < J; ++j) {
     const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
@@ -150,21 +214,51 @@ std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     }
     const Connectivity& conn = h.connectivity(j);
     const SparseMatrix& P = h.refinement(scheme, j);
-    LocalGram coarse(conn, j, elements), fine(h.connectivity(j + 1), j + 1, elements);
+    // Built on the first cache miss only: at fine levels nearly every edge hits.
+    std::optional<LocalGram> coarse, fine;
     EdgeBall ball(conn);
     std::vector<int> mark(n, -1);
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(numNew) * (4 + 6 * r * (r + 1)));
+    // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
+    // encoding it and reuse the regular solution.
+    lattice.advance(h, j);
+    // alpha^j in compressed column form, one column per new vertex in order, rows
+    // sorted within each column.
+    std::vector<int> outer{0}, inner;
+    std::vector<double> values;
+    outer.reserve(numNew + 1);
+    std::vector<std::pair<int, double>> column;
+    auto appendColumn = [&](const int* rows, const Eigen::VectorXd& a) {
+      column.clear();
+      for (Eigen::Index i = 0; i < a.size(); ++i) column.emplace_back(rows[i], a(i));
+      std::sort(column.begin(), column.end());
+      for (auto [row, value] : column) {
+        inner.push_back(row);
+        values.push_back(value);
+      }
+      outer.push_back(static_cast<int>(inner.size()));
+    };
     for (int e = 0; e < numNew; ++e) {
       const auto [a, b] = h.parentEdge(j, e);
+      const bool regular = lattice(a) && lattice(b);
+      if (regular && regularAlpha.size() > 0) {
+        ball.build(a, b, r, false);
+        if (stats) ++stats->reused;
+        appendColumn(ball.verts.data(), regularAlpha);
+        ball.clear();
+        continue;
+      }
       ball.build(a, b, K);
       const int size = ball.within(r);
       auto it = cache.find(ball.key);
       if (it == cache.end()) {
         std::vector<int> S(ball.verts.begin(), ball.verts.begin() + size);
-        const Eigen::MatrixXd G = coarse.block(S);
+        if (!coarse) {
+          coarse.emplace(conn, j, elements);
+          fine.emplace(h.connectivity(j + 1), j + 1, elements);
+        }
+        const Eigen::MatrixXd G = coarse->block(S);
         for (int i = 0; i < size; ++i) mark[S[i]] = i;
-        const Eigen::VectorXd rhs = projectColumn(fine.column(n + e), P, mark, size);
+        const Eigen::VectorXd rhs = projectColumn(fine->column(n + e), P, mark, size);
         for (int v : S) mark[v] = -1;
         Eigen::LLT<Eigen::MatrixXd> llt(G);
         if (llt.info() != Eigen::Success)
@@ -175,18 +269,18 @@ std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
       } else if (stats) {
         ++stats->reused;
       }
-      for (int i = 0; i < size; ++i) triplets.emplace_back(ball.verts[i], e, it->second(i));
+      if (regular) regularAlpha = it->second;
+      appendColumn(ball.verts.data(), it->second);
       ball.clear();
     }
-    alphas[j].resize(n, numNew);
-    alphas[j].setFromTriplets(triplets.begin(), triplets.end());
-    alphas[j].makeCompressed();
+    alphas[j] = Eigen::Map<const AlphaMatrix>(n, numNew, static_cast<Eigen::Index>(inner.size()),
+                                              outer.data(), inner.data(), values.data());
   }
   if (progress) progress("wavelets", 1.0);
   return alphas;
 }
 
-SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const SparseMatrix& alpha) {
+SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const AlphaMatrix& alpha) {
   const int n = h.numVertices(j), nn = h.numVertices(j + 1);
   SparseMatrix E(nn, nn - n);
   std::vector<Eigen::Triplet<double>> t;

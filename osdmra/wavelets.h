@@ -40,8 +40,12 @@ struct WaveletStats {
   long long reused = 0;       ///< new vertices that reused a cached solution
 };
 
-/// alpha^j for j = 0..J-1: n_j x (n_{j+1} - n_j), column e for new vertex n_j + e.
-std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+/// alpha^j: n_j x (n_{j+1} - n_j), column-major; column e belongs to the new vertex
+/// n_j + e and its pattern is S(m).
+using AlphaMatrix = Eigen::SparseMatrix<double>;
+
+/// alpha^j for j = 0..J-1.
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                                              const WaveletOptions& options,
                                              const Progress& progress = {},
                                              WaveletStats* stats = nullptr);
@@ -49,6 +53,6 @@ std::vector<SparseMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
 /// The level-(j+1) coefficients of psi^j_m for every new vertex: Q^{j+1} = E - P alpha
 /// (n_{j+1} x (n_{j+1} - n_j)). For tests and diagnostics; the filter bank never
 /// forms it.
-SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const SparseMatrix& alpha);
+SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const AlphaMatrix& alpha);
 
 }  // namespace osdmra

@@ -82,7 +82,7 @@ struct Orthogonality {
   Eigen::VectorXd psiNorm, phiNorm;
 };
 
-Orthogonality orthogonality(const Hierarchy& h, Scheme s, int j, const SparseMatrix& alpha) {
+Orthogonality orthogonality(const Hierarchy& h, Scheme s, int j, const AlphaMatrix& alpha) {
   ElementGram elements(s);
   const SparseMatrix Ifine = gram(h.connectivity(j + 1), j + 1, elements);
   const SparseMatrix Icoarse = gram(h.connectivity(j), j, elements);
