@@ -43,7 +43,8 @@ class Args {
         } else if (flags.count(name) && !inlineValue) {
           values_[name] = "";
         } else {
-          throw Error(command_ + ": unknown option '" + a + "' (see osdmra " + command_ + " --help)");
+          throw Error(command_ + ": unknown option '" + a + "' (see osdmra " + command_ +
+                      " --help)");
         }
       } else {
         positional_.push_back(a);

@@ -55,6 +55,12 @@ commands:
   mask IN --level j --vertex i [--scheme loop|linear]
                                subdivision and inner-product masks around a vertex
                                of level j over the base mesh IN (paper, Fig. 4, 5)
+  orthogonality BASE --level j [--scheme S] [--max-rings R]
+                               how close lazy, quasi (r = 0..R) and pre-wavelets of
+                               level j over BASE are to orthogonal
+  shape NAME -o OUT            write a built-in base mesh (tetrahedron, octahedron,
+                               icosahedron, torus, genus2, genus3, disc, cylinder,
+                               valences)
   demo                         analyse and rebuild the bundled scanned head
 
 common options:
@@ -213,9 +219,10 @@ Hierarchy hierarchyOf(const TriMesh& mesh, const Args& args, const std::string& 
   }
   const int J = Hierarchy::detectCanonicalLevels(mesh.F, n);
   if (J == 0)
-    throw Error(in + ": no subdivision levels found: the mesh is not in osdmra's canonical order "
-                     "(base vertices first, then each level's new vertices; faces grouped by base "
-                     "face). Pass --levels J to see why a given J does not fit.");
+    throw Error(in +
+                ": no subdivision levels found: the mesh is not in osdmra's canonical order "
+                "(base vertices first, then each level's new vertices; faces grouped by base "
+                "face). Pass --levels J to see why a given J does not fit.");
   return Hierarchy::fromCanonical(mesh.F, n, J);
 }
 
@@ -389,7 +396,9 @@ int cmdMask(const std::vector<std::string>& argv) {
   for (SparseMatrix::InnerIterator it(P, v); it; ++it)
     sub.push(Json::object()
                  .add("vertex", static_cast<int>(it.col()))
-                 .add("ring", dist.count(static_cast<int>(it.col())) ? dist.at(static_cast<int>(it.col())) : -1)
+                 .add("ring", dist.count(static_cast<int>(it.col()))
+                                  ? dist.at(static_cast<int>(it.col()))
+                                  : -1)
                  .add("weight", it.value()));
   for (auto [k, value] : row)
     inner.push(Json::object()
@@ -417,12 +426,83 @@ int cmdMask(const std::vector<std::string>& argv) {
               j, v, c.valence(v), c.isBoundaryVertex(v) ? ", boundary" : "");
   std::printf("subdivision mask (weights of level-%d vertices in the new position of %d):\n", j, v);
   for (SparseMatrix::InnerIterator it(P, v); it; ++it)
-    std::printf("  ring %d  vertex %6d  %.17g\n", dist.count(static_cast<int>(it.col())) ? dist.at(static_cast<int>(it.col())) : -1,
+    std::printf("  ring %d  vertex %6d  %.17g\n",
+                dist.count(static_cast<int>(it.col())) ? dist.at(static_cast<int>(it.col())) : -1,
                 static_cast<int>(it.col()), it.value());
   std::printf("inner-product mask <phi_%d, phi_k> (value, and x 6*4^%d):\n", v, j);
   for (auto [k, value] : row)
     std::printf("  ring %d  vertex %6d  %.17g  %.12g\n", dist.count(k) ? dist.at(k) : -1, k, value,
                 value * scale);
+  return 0;
+}
+
+int cmdOrthogonality(const std::vector<std::string>& argv) {
+  Args args("orthogonality", argv, {"scheme", "level", "max-rings"}, flags());
+  args.expectPositional(1, "one base mesh: osdmra orthogonality BASE --level j");
+  const Common opt = common(args);
+  const std::string in = args.positional()[0];
+  const Scheme scheme = parseScheme(args.get("scheme", "loop"));
+  const int j = static_cast<int>(args.integer("level", 1, 0, 6));
+  const int maxRings = static_cast<int>(args.integer("max-rings", 4, 0, 8));
+  const TriMesh base = readValidMesh(in);
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), j + 1);
+  std::vector<std::pair<std::string, WaveletOptions>> kinds = {{"lazy", {WaveletKind::Lazy, 0}}};
+  for (int r = 0; r <= maxRings; ++r)
+    kinds.push_back({"quasi r=" + std::to_string(r), {WaveletKind::Quasi, r}});
+  if (h.numVertices(j + 1) <= kMaxPreWaveletVertices)
+    kinds.push_back({"pre", {WaveletKind::Pre, 0}});
+  Json rows = Json::array();
+  if (!opt.json)
+    std::printf(
+        "%s, %s, level %d -> %d (%d wavelets)\n"
+        "wavelets      worst |<psi,phi>|/(|psi||phi|)   mean of per-wavelet worst   worst inside "
+        "S\n",
+        in.c_str(), schemeName(scheme), j, j + 1, h.numVertices(j + 1) - h.numVertices(j));
+  for (const auto& [name, w] : kinds) {
+    Hierarchy fresh(base.F, static_cast<int>(base.V.rows()), j + 1);
+    const auto alphas = waveletCorrections(fresh, scheme, w);
+    const OrthogonalityStats o = orthogonality(fresh, scheme, j, alphas[j]);
+    if (opt.json)
+      rows.push(Json::object()
+                    .add("wavelets", waveletKindName(w.kind))
+                    .add("rings", w.kind == WaveletKind::Quasi ? w.rings : -1)
+                    .add("worst", o.worst)
+                    .add("mean", o.mean)
+                    .add("worst_inside_support", o.worstInside));
+    else
+      std::printf("%-12s  %28.3e   %25.3e   %14.1e\n", name.c_str(), o.worst, o.mean,
+                  o.worstInside);
+  }
+  if (opt.json)
+    std::cout << Json::object()
+                     .add("command", "orthogonality")
+                     .add("input", in)
+                     .add("scheme", schemeName(scheme))
+                     .add("level", j)
+                     .add("rows", rows)
+                     .str()
+              << "\n";
+  return 0;
+}
+
+int cmdShape(const std::vector<std::string>& argv) {
+  Args args("shape", argv, {"output"}, flags());
+  args.expectPositional(1, "a shape name: osdmra shape NAME -o OUT");
+  const std::string out = args.require("output");
+  const TriMesh mesh = shapes::byName(args.positional()[0]);
+  writeMesh(out, mesh);
+  if (args.has("json"))
+    std::cout << Json::object()
+                     .add("command", "shape")
+                     .add("shape", args.positional()[0])
+                     .add("output", out)
+                     .add("vertices", static_cast<int>(mesh.V.rows()))
+                     .add("faces", static_cast<int>(mesh.F.rows()))
+                     .str()
+              << "\n";
+  else
+    std::cout << "wrote " << out << ": " << mesh.V.rows() << " vertices, " << mesh.F.rows()
+              << " faces\n";
   return 0;
 }
 
@@ -436,8 +516,9 @@ std::string defaultMesh() {
     const std::filesystem::path p = std::filesystem::path(d) / "igea-oct6.obj";
     if (std::filesystem::exists(p)) return p.string();
   }
-  throw Error("demo: cannot find the bundled mesh igea-oct6.obj (set OSDMRA_DATA to the data/ "
-              "directory of the osdmra sources)");
+  throw Error(
+      "demo: cannot find the bundled mesh igea-oct6.obj (set OSDMRA_DATA to the data/ "
+      "directory of the osdmra sources)");
 }
 
 int cmdDemo(const std::vector<std::string>& argv) {
@@ -450,9 +531,10 @@ int cmdDemo(const std::vector<std::string>& argv) {
   const double diag = boundingBoxDiagonal(mesh.V);
   Json runs = Json::array();
   if (!opt.json)
-    std::printf("%s: %d vertices, %d faces, 6 levels over an octahedron\n\n"
-                "scheme  wavelets  precompute   analysis  synthesis  reconstruction error\n",
-                in.c_str(), static_cast<int>(mesh.V.rows()), static_cast<int>(mesh.F.rows()));
+    std::printf(
+        "%s: %d vertices, %d faces, 6 levels over an octahedron\n\n"
+        "scheme  wavelets  precompute   analysis  synthesis  reconstruction error\n",
+        in.c_str(), static_cast<int>(mesh.V.rows()), static_cast<int>(mesh.F.rows()));
   for (Scheme scheme : {Scheme::Loop, Scheme::Linear}) {
     WaveletOptions w;
     w.rings = static_cast<int>(args.integer("rings", kDefaultRings, 0, 8));
@@ -512,6 +594,8 @@ int dispatch(int argc, char** argv) {
   if (command == "analyze") return cmdAnalyze(rest);
   if (command == "synthesize") return cmdSynthesize(rest);
   if (command == "mask") return cmdMask(rest);
+  if (command == "orthogonality") return cmdOrthogonality(rest);
+  if (command == "shape") return cmdShape(rest);
   if (command == "demo") return cmdDemo(rest);
   std::cerr << "osdmra: unknown command '" << command << "'\n\n" << kUsage;
   return 2;

@@ -31,9 +31,9 @@ struct WaveletOptions {
 struct Decomposition {
   Scheme scheme = Scheme::Loop;
   WaveletOptions wavelets;
-  int levels = 0;           ///< J
-  Faces baseFaces;          ///< M^0
-  Points base;              ///< c^0: n_0 x 3
+  int levels = 0;               ///< J
+  Faces baseFaces;              ///< M^0
+  Points base;                  ///< c^0: n_0 x 3
   std::vector<Points> details;  ///< d^j for j = 0..J-1: (n_{j+1} - n_j) x 3
   /// Input vertex of each canonical level-J vertex (empty: the input was canonical).
   /// synthesize() at level J writes vertices back in the input's order with it.

@@ -63,7 +63,9 @@ void encode(const Connectivity& conn, int f, int rot, std::vector<int>& key,
 }
 
 // Index of the upper-triangle entry (p <= q) of an m x m symmetric matrix.
-inline int sym(int p, int q, int m) { return p * m - p * (p - 1) / 2 + (q - p); }
+inline int sym(int p, int q, int m) {
+  return p * m - p * (p - 1) / 2 + (q - p);
+}
 
 }  // namespace
 

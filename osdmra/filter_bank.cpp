@@ -43,10 +43,9 @@ Points solveOld(const SparseMatrix& P, int n, int j, const Points& rhs) {
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
   lu.compute(Eigen::SparseMatrix<double>(Pold));
   if (lu.info() != Eigen::Success)
-    throw Error("Loop vertex-rule block P_old of level " + std::to_string(j) +
-                " is singular: V^" + std::to_string(j) +
-                " and the new-vertex functions do not span V^" + std::to_string(j + 1) +
-                " for this mesh");
+    throw Error("Loop vertex-rule block P_old of level " + std::to_string(j) + " is singular: V^" +
+                std::to_string(j) + " and the new-vertex functions do not span V^" +
+                std::to_string(j + 1) + " for this mesh");
   for (int c = 0; c < 3; ++c) {
     const Eigen::VectorXd b = rhs.col(c);
     u.col(c) = lu.solve(b);
@@ -60,11 +59,12 @@ void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coa
                   Points& detail) {
   const Hierarchy& h = *bank.hierarchy;
   const int n = h.numVertices(j), nn = h.numVertices(j + 1);
-  if (fine.rows() != nn) throw Error("analysis: level " + std::to_string(j + 1) + " needs " +
-                                      std::to_string(nn) + " points");
+  if (fine.rows() != nn)
+    throw Error("analysis: level " + std::to_string(j + 1) + " needs " + std::to_string(nn) +
+                " points");
   const SparseMatrix& P = h.refinement(bank.scheme, j);
-  const Points u = bank.scheme == Scheme::Linear ? Points(fine.topRows(n))
-                                                 : solveOld(P, n, j, fine.topRows(n));
+  const Points u =
+      bank.scheme == Scheme::Linear ? Points(fine.topRows(n)) : solveOld(P, n, j, fine.topRows(n));
   detail = fine.bottomRows(nn - n) - P.bottomRows(nn - n) * u;
   coarse = u + bank.alpha[j] * detail;
 }

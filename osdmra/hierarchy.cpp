@@ -16,7 +16,9 @@ namespace osdmra {
 namespace Far = OpenSubdiv::Far;
 namespace Sdc = OpenSubdiv::Sdc;
 
-const char* schemeName(Scheme s) { return s == Scheme::Loop ? "loop" : "linear"; }
+const char* schemeName(Scheme s) {
+  return s == Scheme::Loop ? "loop" : "linear";
+}
 
 Scheme parseScheme(const std::string& name) {
   if (name == "loop") return Scheme::Loop;
@@ -29,7 +31,9 @@ namespace {
 // OpenSubdiv reports errors through a global callback; we keep the last message of
 // this thread and turn a failed factory call into an Error.
 thread_local std::string lastFarError;
-void farErrorCallback(Far::ErrorType, const char* message) { lastFarError = message; }
+void farErrorCallback(Far::ErrorType, const char* message) {
+  lastFarError = message;
+}
 void farWarningCallback(const char*) {}
 std::once_flag callbackOnce;
 
@@ -70,7 +74,8 @@ struct Hierarchy::Impl {
 
 Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
     : impl_(std::make_unique<Impl>()) {
-  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  if (levels < 0 || levels > 15)
+    throw Error("levels must be in 0..15, got " + std::to_string(levels));
   if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
   std::call_once(callbackOnce, [] {
     Far::SetErrorCallback(farErrorCallback);
@@ -87,8 +92,7 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
   options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   lastFarError.clear();
-  impl_->refiner.reset(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
   if (!impl_->refiner) throw Error("OpenSubdiv rejected the base mesh: " + lastFarError);
   if (levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(levels);
@@ -114,7 +118,8 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
       const int n = L.GetNumVertices();
       for (int v = 0; v < n; ++v)
         if (L.GetVertexChildVertex(v) != v)
-          throw Error("OpenSubdiv vertex ordering is not vertices-first at level " + std::to_string(j));
+          throw Error("OpenSubdiv vertex ordering is not vertices-first at level " +
+                      std::to_string(j));
       for (int e = 0; e < L.GetNumEdges(); ++e)
         if (L.GetEdgeChildVertex(e) != n + e)
           throw Error("OpenSubdiv edge-vertex ordering unexpected at level " + std::to_string(j));
@@ -137,13 +142,25 @@ Hierarchy::~Hierarchy() = default;
 Hierarchy::Hierarchy(Hierarchy&&) noexcept = default;
 Hierarchy& Hierarchy::operator=(Hierarchy&&) noexcept = default;
 
-int Hierarchy::levels() const { return static_cast<int>(impl_->faces.size()) - 1; }
-int Hierarchy::numVertices(int j) const { return impl_->conn[j].numVertices(); }
-int Hierarchy::numFaces(int j) const { return static_cast<int>(impl_->faces[j].rows()); }
-const Faces& Hierarchy::faces(int j) const { return impl_->faces[j]; }
-const Connectivity& Hierarchy::connectivity(int j) const { return impl_->conn[j]; }
+int Hierarchy::levels() const {
+  return static_cast<int>(impl_->faces.size()) - 1;
+}
+int Hierarchy::numVertices(int j) const {
+  return impl_->conn[j].numVertices();
+}
+int Hierarchy::numFaces(int j) const {
+  return static_cast<int>(impl_->faces[j].rows());
+}
+const Faces& Hierarchy::faces(int j) const {
+  return impl_->faces[j];
+}
+const Connectivity& Hierarchy::connectivity(int j) const {
+  return impl_->conn[j];
+}
 
-std::array<int, 2> Hierarchy::parentEdge(int j, int e) const { return impl_->edges[j][e]; }
+std::array<int, 2> Hierarchy::parentEdge(int j, int e) const {
+  return impl_->edges[j][e];
+}
 
 int Hierarchy::midpoint(int j, int a, int b) const {
   const Far::TopologyLevel& L = impl_->refiner->GetLevel(j);
@@ -159,7 +176,8 @@ const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {
   SparseMatrix& P = impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
   if (P.rows() == 0) {
     std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(numVertices(j + 1)) * (scheme == Scheme::Loop ? 7 : 2));
+    triplets.reserve(static_cast<std::size_t>(numVertices(j + 1)) *
+                     (scheme == Scheme::Loop ? 7 : 2));
     Far::PrimvarRefinerReal<double> refiner(*impl_->refiner);
     SourceArray src;
     CollectorArray dst{&triplets};
@@ -250,12 +268,14 @@ bool canonicalBase(const Faces& finest, int numVertices, int levels, Faces& base
 }  // namespace
 
 Hierarchy Hierarchy::fromCanonical(const Faces& finest, int numVertices, int levels) {
-  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  if (levels < 0 || levels > 15)
+    throw Error("levels must be in 0..15, got " + std::to_string(levels));
   Faces base;
   int n0 = 0;
   std::string why;
   if (!canonicalBase(finest, numVertices, levels, base, n0, why))
-    throw Error("not in osdmra's canonical order for " + std::to_string(levels) + " levels: " + why);
+    throw Error("not in osdmra's canonical order for " + std::to_string(levels) +
+                " levels: " + why);
   Hierarchy h(base, n0, levels);
   const Faces& F = h.faces(levels);
   for (Eigen::Index f = 0; f < F.rows(); ++f)

@@ -11,7 +11,8 @@ namespace shapes {
 
 namespace {
 
-TriMesh make(const std::vector<std::array<double, 3>>& v, const std::vector<std::array<int, 3>>& f) {
+TriMesh make(const std::vector<std::array<double, 3>>& v,
+             const std::vector<std::array<int, 3>>& f) {
   TriMesh m;
   m.V.resize(static_cast<Eigen::Index>(v.size()), 3);
   m.F.resize(static_cast<Eigen::Index>(f.size()), 3);
@@ -48,17 +49,28 @@ TriMesh tetrahedron() {
 }
 
 TriMesh octahedron() {
-  return make({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
-              {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+  return make(
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+      {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
 }
 
 TriMesh icosahedron() {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  return make({{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t}, {0, -1, -t},
-               {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}},
-              {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-               {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-               {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}});
+  return make({{-1, t, 0},
+               {1, t, 0},
+               {-1, -t, 0},
+               {1, -t, 0},
+               {0, -1, t},
+               {0, 1, t},
+               {0, -1, -t},
+               {0, 1, -t},
+               {t, 0, -1},
+               {t, 0, 1},
+               {-t, 0, -1},
+               {-t, 0, 1}},
+              {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+               {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}});
 }
 
 TriMesh torus(int around, int along) {
@@ -118,9 +130,11 @@ TriMesh slab(int genus) {
       quad({x, y, 1}, {x + 1, y, 1}, {x + 1, y + 1, 1}, {x, y + 1, 1});  // top, +z
       quad({x, y, 0}, {x, y + 1, 0}, {x + 1, y + 1, 0}, {x + 1, y, 0});  // bottom, -z
       if (!filled(x - 1, y)) quad({x, y, 0}, {x, y, 1}, {x, y + 1, 1}, {x, y + 1, 0});
-      if (!filled(x + 1, y)) quad({x + 1, y, 0}, {x + 1, y + 1, 0}, {x + 1, y + 1, 1}, {x + 1, y, 1});
+      if (!filled(x + 1, y))
+        quad({x + 1, y, 0}, {x + 1, y + 1, 0}, {x + 1, y + 1, 1}, {x + 1, y, 1});
       if (!filled(x, y - 1)) quad({x, y, 0}, {x + 1, y, 0}, {x + 1, y, 1}, {x, y, 1});
-      if (!filled(x, y + 1)) quad({x, y + 1, 0}, {x, y + 1, 1}, {x + 1, y + 1, 1}, {x + 1, y + 1, 0});
+      if (!filled(x, y + 1))
+        quad({x, y + 1, 0}, {x, y + 1, 1}, {x + 1, y + 1, 1}, {x + 1, y + 1, 0});
     }
   return make(v, f);
 }
@@ -150,20 +164,24 @@ TriMesh valences() {
     f.push_back({c, a, x});
   };
   // South faces (2i+1) only, so the north apex keeps valence 10.
-  insert(1);   // (1,0,S): v0, v1 -> 5
-  insert(3);   // (2,1,S): v1 -> 6, v2 -> 5
-  insert(5);   // (3,2,S): v2 -> 6, v3 -> 5
-  insert(1);   // (1,0,x): v0 -> 6, v1 -> 7
-  insert(1);   // again:   v0 -> 7, v1 -> 8
-  insert(1);   // again:   v0 -> 8, v1 -> 9
+  insert(1);  // (1,0,S): v0, v1 -> 5
+  insert(3);  // (2,1,S): v1 -> 6, v2 -> 5
+  insert(5);  // (3,2,S): v2 -> 6, v3 -> 5
+  insert(1);  // (1,0,x): v0 -> 6, v1 -> 7
+  insert(1);  // again:   v0 -> 7, v1 -> 8
+  insert(1);  // again:   v0 -> 8, v1 -> 9
   return make(v, f);
 }
 
 std::vector<std::pair<std::string, TriMesh>> all() {
-  return {{"tetrahedron", tetrahedron()}, {"octahedron", octahedron()},
-          {"icosahedron", icosahedron()}, {"torus", torus()},
-          {"genus2", slab(2)},            {"genus3", slab(3)},
-          {"disc", disc()},               {"cylinder", cylinder()},
+  return {{"tetrahedron", tetrahedron()},
+          {"octahedron", octahedron()},
+          {"icosahedron", icosahedron()},
+          {"torus", torus()},
+          {"genus2", slab(2)},
+          {"genus3", slab(3)},
+          {"disc", disc()},
+          {"cylinder", cylinder()},
           {"valences", valences()}};
 }
 

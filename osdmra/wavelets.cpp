@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -163,6 +164,62 @@ class LatticeBalls {
   std::vector<int> queue_, depth_;
 };
 
+// The local Galerkin solution for new vertex n_j + e with S = the first `size`
+// ball vertices, and 4^{j+1} ||psi||^2 with psi = phi^{j+1}_m - sum alpha_i phi^j_i.
+template <class Entry>
+Entry solveLocalImpl(const Hierarchy& h, int j, int e, const std::vector<int>& ball, int size,
+                     const SparseMatrix& P, LocalGram& coarse, LocalGram& fine,
+                     std::vector<int>& mark, std::vector<int>& fineMark) {
+  const int n = h.numVertices(j), m = n + e;
+  const auto [a, b] = h.parentEdge(j, e);
+  Entry entry;
+  const std::vector<int> S(ball.begin(), ball.begin() + size);
+  if (size > 0) {
+    const Eigen::MatrixXd G = coarse.block(S);
+    for (int i = 0; i < size; ++i) mark[S[i]] = i;
+    const Eigen::VectorXd rhs = projectColumn(fine.column(m), P, mark, size);
+    Eigen::LLT<Eigen::MatrixXd> llt(G);
+    if (llt.info() != Eigen::Success) {
+      for (int v : S) mark[v] = -1;
+      throw Error("local Gram matrix not positive definite at level " + std::to_string(j) +
+                  ", edge " + std::to_string(a) + "-" + std::to_string(b));
+    }
+    entry.alpha = llt.solve(rhs);
+  }
+  // q = e_m - P alpha on level j+1. P alpha reaches the children of S and of their
+  // neighbours (Loop's vertex rule) and the midpoints of edges in the fans of S
+  // (Loop's edge rule uses the opposite vertices).
+  std::vector<int> support{m};
+  fineMark[m] = 0;
+  const Connectivity& conn = h.connectivity(j);
+  auto add = [&](int k) {
+    if (k >= 0 && fineMark[k] < 0) {
+      fineMark[k] = static_cast<int>(support.size());
+      support.push_back(k);
+    }
+  };
+  for (int v : S) {
+    add(v);
+    for (int x : conn.ring(v)) add(x);
+    for (int hh : conn.fan(v)) {
+      add(h.midpoint(j, conn.from(hh), conn.to(hh)));
+      add(h.midpoint(j, conn.to(hh), conn.from(Connectivity::prev(hh))));
+      add(h.midpoint(j, conn.from(Connectivity::prev(hh)), conn.from(hh)));
+    }
+  }
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(support.size()));
+  q(0) = 1.0;
+  for (std::size_t i = 0; i < support.size(); ++i)
+    for (SparseMatrix::InnerIterator it(P, support[i]); it; ++it)
+      if (mark[it.col()] >= 0)
+        q(static_cast<Eigen::Index>(i)) -= it.value() * entry.alpha(mark[it.col()]);
+  for (int v : S) mark[v] = -1;
+  const Eigen::MatrixXd Gq = fine.block(support);
+  for (int k : support) fineMark[k] = -1;
+  entry.scaledNorm2 = q.dot(Gq * q) * std::ldexp(1.0, 2 * (j + 1));
+  return entry;
+}
+
 AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& elements) {
   const int n = h.numVertices(j), nn = h.numVertices(j + 1);
   const SparseMatrix Ij = gram(h.connectivity(j), j, elements);
@@ -179,10 +236,12 @@ AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& e
 }  // namespace
 
 std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
-                                             const WaveletOptions& options,
-                                             const Progress& progress, WaveletStats* stats) {
+                                            const WaveletOptions& options, const Progress& progress,
+                                            WaveletStats* stats,
+                                            std::vector<Eigen::VectorXd>* norms) {
   const int J = h.levels();
   std::vector<AlphaMatrix> alphas(J);
+  if (norms) norms->assign(J, Eigen::VectorXd());
   if (options.kind == WaveletKind::Quasi && (options.rings < 0 || options.rings > 8))
     throw Error("rings must be in 0..8, got " + std::to_string(options.rings));
   if (options.kind == WaveletKind::Pre && h.numVertices(J) > kMaxPreWaveletVertices)
@@ -190,34 +249,45 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                 " finest-level vertices; this surface has " + std::to_string(h.numVertices(J)) +
                 " (use quasi-wavelets)");
   ElementGram elements(scheme);
-  // Alpha of a neighbourhood, in ball order. Inner products depend on topology only
-  // and scale by 4^-j on both sides of the system, so one cache serves every level.
-  std::unordered_map<std::vector<int>, Eigen::VectorXd, KeyHash> cache;
-  const int r = options.rings;
-  // Radius that determines alpha: r rings of S, plus the reach of the Gram entries
-  // (supports and element types: 3 rings for Loop, 1 for polyhedral) and of b.
+  // One local solution per distinct neighbourhood, in ball order, shared by every
+  // level: inner products depend on topology only and scale by 4^-j on both sides
+  // of the Galerkin system. The norm is stored as 4^{j+1} ||psi||^2, also invariant.
+  struct Entry {
+    Eigen::VectorXd alpha;
+    double scaledNorm2 = 0;
+  };
+  std::unordered_map<std::vector<int>, Entry, KeyHash> cache;
+  // Lazy wavelets are quasi-wavelets with an empty S (r = -1).
+  const int r = options.kind == WaveletKind::Lazy ? -1 : options.rings;
+  // Radius that determines alpha and the norm: r rings of S, plus the reach of the
+  // Gram entries (supports and element types: 3 rings for Loop, 1 for polyhedral)
+  // and of b = P^T I^{j+1} e_m.
   const int K = r + (scheme == Scheme::Loop ? 4 : 2);
-  Eigen::VectorXd regularAlpha;
+  std::optional<Entry> regularEntry;
   // The K-ball of edge {a, b} lies in the (K+1)-balls of a and of b.
   LatticeBalls lattice(K + 1);
 
   for (int j = 0; j < J; ++j) {
     const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
     if (progress) progress("wavelets", double(j) / J);
-    if (options.kind == WaveletKind::Lazy) {
-      alphas[j].resize(n, numNew);
-      continue;
-    }
+    const SparseMatrix& P = h.refinement(scheme, j);
     if (options.kind == WaveletKind::Pre) {
       alphas[j] = preWavelets(h, scheme, j, elements);
+      if (norms) {
+        const SparseMatrix Q = synthesisMatrix(h, scheme, j, alphas[j]);
+        const SparseMatrix I = gram(h.connectivity(j + 1), j + 1, elements);
+        const SparseMatrix IQ = I * Q;
+        // ||psi_m||^2 = q_m^T I q_m: column sums of Q .* (I Q).
+        const SparseMatrix QIQ = Q.cwiseProduct(IQ);
+        (*norms)[j] = (Eigen::RowVectorXd::Ones(QIQ.rows()) * QIQ).transpose().cwiseSqrt();
+      }
       continue;
     }
     const Connectivity& conn = h.connectivity(j);
-    const SparseMatrix& P = h.refinement(scheme, j);
     // Built on the first cache miss only: at fine levels nearly every edge hits.
     std::optional<LocalGram> coarse, fine;
     EdgeBall ball(conn);
-    std::vector<int> mark(n, -1);
+    std::vector<int> mark(n, -1), fineMark;
     // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
     // encoding it and reuse the regular solution.
     lattice.advance(h, j);
@@ -237,44 +307,43 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
       }
       outer.push_back(static_cast<int>(inner.size()));
     };
+    Eigen::VectorXd levelNorms(norms ? numNew : 0);
+    const double normScale = std::ldexp(1.0, -2 * (j + 1));
     for (int e = 0; e < numNew; ++e) {
       const auto [a, b] = h.parentEdge(j, e);
       const bool regular = lattice(a) && lattice(b);
-      if (regular && regularAlpha.size() > 0) {
-        ball.build(a, b, r, false);
+      const Entry* entry = nullptr;
+      if (regular && regularEntry) {
+        ball.build(a, b, std::max(r, 0), false);
         if (stats) ++stats->reused;
-        appendColumn(ball.verts.data(), regularAlpha);
-        ball.clear();
-        continue;
-      }
-      ball.build(a, b, K);
-      const int size = ball.within(r);
-      auto it = cache.find(ball.key);
-      if (it == cache.end()) {
-        std::vector<int> S(ball.verts.begin(), ball.verts.begin() + size);
-        if (!coarse) {
-          coarse.emplace(conn, j, elements);
-          fine.emplace(h.connectivity(j + 1), j + 1, elements);
+        entry = &*regularEntry;
+      } else {
+        ball.build(a, b, K);
+        auto it = cache.find(ball.key);
+        if (it == cache.end()) {
+          if (!coarse) {
+            coarse.emplace(conn, j, elements);
+            fine.emplace(h.connectivity(j + 1), j + 1, elements);
+            fineMark.assign(h.numVertices(j + 1), -1);
+          }
+          it = cache
+                   .emplace(ball.key, solveLocalImpl<Entry>(h, j, e, ball.verts, ball.within(r), P,
+                                                            *coarse, *fine, mark, fineMark))
+                   .first;
+          if (stats) ++stats->localSolves;
+        } else if (stats) {
+          ++stats->reused;
         }
-        const Eigen::MatrixXd G = coarse->block(S);
-        for (int i = 0; i < size; ++i) mark[S[i]] = i;
-        const Eigen::VectorXd rhs = projectColumn(fine->column(n + e), P, mark, size);
-        for (int v : S) mark[v] = -1;
-        Eigen::LLT<Eigen::MatrixXd> llt(G);
-        if (llt.info() != Eigen::Success)
-          throw Error("local Gram matrix not positive definite at level " + std::to_string(j) +
-                      ", edge " + std::to_string(a) + "-" + std::to_string(b));
-        it = cache.emplace(ball.key, llt.solve(rhs)).first;
-        if (stats) ++stats->localSolves;
-      } else if (stats) {
-        ++stats->reused;
+        entry = &it->second;
+        if (regular) regularEntry = *entry;
       }
-      if (regular) regularAlpha = it->second;
-      appendColumn(ball.verts.data(), it->second);
+      appendColumn(ball.verts.data(), entry->alpha);
+      if (norms) levelNorms(e) = std::sqrt(entry->scaledNorm2 * normScale);
       ball.clear();
     }
     alphas[j] = Eigen::Map<const AlphaMatrix>(n, numNew, static_cast<Eigen::Index>(inner.size()),
                                               outer.data(), inner.data(), values.data());
+    if (norms) (*norms)[j] = std::move(levelNorms);
   }
   if (progress) progress("wavelets", 1.0);
   return alphas;
@@ -288,6 +357,40 @@ SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const Alp
   E.setFromTriplets(t.begin(), t.end());
   const SparseMatrix Palpha = h.refinement(scheme, j) * alpha;
   return SparseMatrix(E - Palpha);
+}
+
+OrthogonalityStats orthogonality(const Hierarchy& h, Scheme scheme, int j,
+                                 const AlphaMatrix& alpha) {
+  ElementGram elements(scheme);
+  const SparseMatrix Ifine = gram(h.connectivity(j + 1), j + 1, elements);
+  const SparseMatrix Icoarse = gram(h.connectivity(j), j, elements);
+  const SparseMatrix Q = synthesisMatrix(h, scheme, j, alpha);
+  const SparseMatrix QT = Q.transpose();
+  // Row m: <psi_m, phi_k> for every k; psi norms from Q^T I Q.
+  const SparseMatrix inner = QT * Ifine * h.refinement(scheme, j);
+  const SparseMatrix IQ = Ifine * Q;
+  const Eigen::VectorXd phiNorm = Icoarse.diagonal().cwiseSqrt();
+  const AlphaMatrix support = alpha;  // column m lists S(m)
+  OrthogonalityStats stats;
+  std::vector<char> inS(h.numVertices(j), 0);
+  for (int m = 0; m < inner.outerSize(); ++m) {
+    double psi2 = 0;
+    for (SparseMatrix::InnerIterator it(QT, m); it; ++it)
+      psi2 += it.value() * IQ.coeff(it.col(), m);
+    const double psiNorm = std::sqrt(psi2);
+    for (AlphaMatrix::InnerIterator it(support, m); it; ++it) inS[it.row()] = 1;
+    double rowWorst = 0;
+    for (SparseMatrix::InnerIterator it(inner, m); it; ++it) {
+      const double c = std::abs(it.value()) / (psiNorm * phiNorm(it.col()));
+      rowWorst = std::max(rowWorst, c);
+      if (inS[it.col()]) stats.worstInside = std::max(stats.worstInside, c);
+    }
+    for (AlphaMatrix::InnerIterator it(support, m); it; ++it) inS[it.row()] = 0;
+    stats.worst = std::max(stats.worst, rowWorst);
+    stats.mean += rowWorst;
+  }
+  if (inner.outerSize() > 0) stats.mean /= static_cast<double>(inner.outerSize());
+  return stats;
 }
 
 }  // namespace osdmra

@@ -44,15 +44,30 @@ struct WaveletStats {
 /// n_j + e and its pattern is S(m).
 using AlphaMatrix = Eigen::SparseMatrix<double>;
 
-/// alpha^j for j = 0..J-1.
+/// alpha^j for j = 0..J-1. When `norms` is given it receives ||psi^j_m|| for every
+/// new vertex of every level (the importance weights of truncation, math.md 5).
 std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
-                                             const WaveletOptions& options,
-                                             const Progress& progress = {},
-                                             WaveletStats* stats = nullptr);
+                                            const WaveletOptions& options,
+                                            const Progress& progress = {},
+                                            WaveletStats* stats = nullptr,
+                                            std::vector<Eigen::VectorXd>* norms = nullptr);
 
 /// The level-(j+1) coefficients of psi^j_m for every new vertex: Q^{j+1} = E - P alpha
 /// (n_{j+1} x (n_{j+1} - n_j)). For tests and diagnostics; the filter bank never
 /// forms it.
 SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const AlphaMatrix& alpha);
+
+/// How far the psi^j_m are from the orthogonal complement of V^j, normalised:
+/// c(m, k) = |<psi^j_m, phi^j_k>| / (||psi^j_m|| ||phi^j_k||).
+struct OrthogonalityStats {
+  double worstInside = 0;  ///< max of c over k in S(m) (0 up to rounding: Galerkin)
+  double worst = 0;        ///< max of c over all m and k
+  double mean = 0;         ///< mean of max_k c(m, k) over m
+};
+
+/// Measures OrthogonalityStats for level j. Assembles I^j and I^{j+1} in full:
+/// meant for diagnostics and tests on meshes of moderate size.
+OrthogonalityStats orthogonality(const Hierarchy& h, Scheme scheme, int j,
+                                 const AlphaMatrix& alpha);
 
 }  // namespace osdmra

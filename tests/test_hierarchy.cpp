@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+
 #include "osdmra/hierarchy.h"
 using namespace osdmra;
 TEST(Hierarchy, OctahedronCounts) {
