@@ -1,0 +1,165 @@
+// End-to-end tests of the osdmra command-line tool: round trips through files,
+// JSON summaries, and refusals with a clear message, a non-zero exit and no output.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "osdmra/io.h"
+#include "osdmra/shapes.h"
+
+namespace fs = std::filesystem;
+using namespace osdmra;
+
+namespace {
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+class Cli : public testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = fs::temp_directory_path() /
+           ("osdmra-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  Result run(const std::string& args) const {
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string(OSDMRA_CLI) + " " + args + " >" + out + " 2>" + err;
+    const int raw = std::system(cmd.c_str());
+    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+    return r;
+  }
+  static std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+  fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(Cli, SubdivideAnalyzeSynthesizeRoundTrip) {
+  for (const char* scheme : {"loop", "linear"}) {
+    SCOPED_TRACE(scheme);
+    ASSERT_EQ(run("shape genus2 -o " + path("g2.obj")).status, 0);
+    const Result sub = run("subdivide " + path("g2.obj") + " --levels 3 --scheme " + scheme +
+                        " --displace 0.05 --seed 11 -o " + path("g2-3.ply"));
+    ASSERT_EQ(sub.status, 0) << sub.err;
+    const Result an = run("analyze " + path("g2-3.ply") + " --scheme " + scheme +
+                       " --rings 1 --json -o " + path("g2.mra"));
+    ASSERT_EQ(an.status, 0) << an.err;
+    EXPECT_EQ(an.out.front(), '{');
+    EXPECT_NE(an.out.find("\"levels\": 3"), std::string::npos) << an.out;
+    EXPECT_NE(an.out.find("\"reconstruction_error\""), std::string::npos);
+    const Result syn = run("synthesize " + path("g2.mra") + " -o " + path("back.obj"));
+    ASSERT_EQ(syn.status, 0) << syn.err;
+    const TriMesh original = readMesh(path("g2-3.ply")), back = readMesh(path("back.obj"));
+    ASSERT_EQ(back.V.rows(), original.V.rows());
+    EXPECT_TRUE(back.F == original.F);
+    EXPECT_LT((back.V - original.V).cwiseAbs().maxCoeff(), 1e-12 * boundingBoxDiagonal(original.V));
+    // A coarser level has the base's structure refined fewer times.
+    ASSERT_EQ(run("synthesize " + path("g2.mra") + " --level 1 -o " + path("l1.off")).status, 0);
+    EXPECT_EQ(readMesh(path("l1.off")).F.rows(), 4 * shapes::slab(2).F.rows());
+  }
+}
+
+TEST_F(Cli, AnalyzeRefusesMeshesOutOfCanonicalOrder) {
+  ASSERT_EQ(run("shape octahedron -o " + path("oct.obj")).status, 0);
+  ASSERT_EQ(run("subdivide " + path("oct.obj") + " --levels 2 -o " + path("oct2.obj")).status, 0);
+  // The base mesh itself has no levels.
+  Result r = run("analyze " + path("oct.obj") + " -o " + path("x.mra"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("oct.obj"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no subdivision levels"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.mra")));
+  // Wrong level count: the message says what does not fit.
+  r = run("analyze " + path("oct2.obj") + " --levels 3 -o " + path("x.mra"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("canonical order"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.mra")));
+  // Shuffled faces are not canonical.
+  TriMesh m = readMesh(path("oct2.obj"));
+  m.F.row(0).swap(m.F.row(5));
+  writeMesh(path("shuffled.obj"), m);
+  r = run("analyze " + path("shuffled.obj") + " --levels 2 -o " + path("x.mra"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("canonical order"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ClearErrorsForBadArgumentsAndFiles) {
+  Result r = run("analyze " + path("missing.obj") + " -o " + path("x.mra"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("missing.obj"), std::string::npos) << r.err;
+  r = run("subdivide " + path("missing.obj") + " --levels two -o " + path("x.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--levels"), std::string::npos) << r.err;
+  r = run("info --frobnicate x.obj");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--frobnicate"), std::string::npos) << r.err;
+  r = run("nosuchcommand");
+  EXPECT_NE(r.status, 0);
+  // A corrupt coefficient file: error, and no output mesh.
+  std::ofstream(path("bad.mra")) << "not a coefficient file at all";
+  r = run("synthesize " + path("bad.mra") + " -o " + path("out.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("bad.mra"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("out.obj")));
+  // A quad mesh names its line.
+  std::ofstream(path("quad.obj")) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  r = run("info " + path("quad.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("quad.obj:5"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, InfoFindsLevelsAndTopology) {
+  ASSERT_EQ(run("shape cylinder -o " + path("cyl.obj")).status, 0);
+  ASSERT_EQ(run("subdivide " + path("cyl.obj") + " --levels 3 -o " + path("cyl3.ply")).status, 0);
+  const Result r = run("info " + path("cyl3.ply") + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"canonical_levels\": 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"boundary_loops\": 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"genus\": 0"), std::string::npos) << r.out;
+  const Result t = run("info " + std::string(OSDMRA_DATA_DIR) + "/igea-oct6.obj --json");
+  ASSERT_EQ(t.status, 0) << t.err;
+  EXPECT_NE(t.out.find("\"canonical_levels\": 6"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("\"base_faces\": 8"), std::string::npos) << t.out;
+}
+
+TEST_F(Cli, PolyhedralMaskIsThePapersFigure5) {
+  ASSERT_EQ(run("shape valences -o " + path("v.obj")).status, 0);
+  // Vertex 10 is the valence-10 apex; at level 1 it keeps valence 10.
+  const Result r = run("mask " + path("v.obj") + " --scheme linear --level 1 --vertex 10");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("valence 10"), std::string::npos) << r.out;
+  // Centre 10 and ten neighbours of weight 1, after scaling by 6 * 4^j.
+  EXPECT_NE(r.out.find("ring 0  vertex     10  "), std::string::npos) << r.out;
+  int ones = 0;
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("ring 1") != std::string::npos && line.size() > 2 &&
+        line.compare(line.size() - 2, 2, " 1") == 0)
+      ++ones;
+  EXPECT_EQ(ones, 10) << r.out;
+}
+
+TEST_F(Cli, DemoRunsOnTheBundledMesh) {
+  const Result r = run("demo --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reconstruction_error\""), std::string::npos) << r.out;
+}
