@@ -18,11 +18,8 @@ FilterBank makeFilterBank(const Hierarchy& h, Scheme scheme, const WaveletOption
   return bank;
 }
 
-namespace {
-
-// Solves P_old u = rhs for Loop's vertex rule on level j.
-Points solveOld(const SparseMatrix& P, int n, int j, const Points& rhs) {
-  const SparseMatrix Pold = P.topRows(n);
+Points solveOldBlock(const SparseMatrix& Pold, int j, const Points& rhs) {
+  const Eigen::Index n = Pold.rows();
   Points u(n, 3);
   Eigen::BiCGSTAB<SparseMatrix, Eigen::DiagonalPreconditioner<double>> solver;
   solver.setTolerance(1e-15);
@@ -53,8 +50,6 @@ Points solveOld(const SparseMatrix& P, int n, int j, const Points& rhs) {
   return u;
 }
 
-}  // namespace
-
 void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coarse,
                   Points& detail) {
   const Hierarchy& h = *bank.hierarchy;
@@ -64,7 +59,7 @@ void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coa
                 " points");
   const SparseMatrix& P = h.refinement(bank.scheme, j);
   const Points u =
-      bank.scheme == Scheme::Linear ? Points(fine.topRows(n)) : solveOld(P, n, j, fine.topRows(n));
+      bank.scheme == Scheme::Linear ? Points(fine.topRows(n)) : solveOldBlock(P.topRows(n), j, fine.topRows(n));
   detail = fine.bottomRows(nn - n) - P.bottomRows(nn - n) * u;
   coarse = u + bank.alpha[j] * detail;
 }

@@ -40,6 +40,12 @@ Decomposition analyze(const FilterBank& bank, const Points& finest, const Progre
 Points synthesize(const FilterBank& bank, const Decomposition& d, int level,
                   const Progress& progress = {});
 
+/// The one non-local step of Loop analysis: solves P_old u = rhs (P_old: the
+/// vertex-rule rows of P^{j+1}, n_j x n_j). Preconditioned BiCGSTAB, checked on its
+/// true residual; a sparse LU when that fails. Throws Error naming level j when
+/// P_old is singular.
+Points solveOldBlock(const SparseMatrix& Pold, int j, const Points& rhs);
+
 /// One analysis step: c^{j+1} -> (c^j, d^j).
 void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coarse,
                   Points& detail);

@@ -157,3 +157,26 @@ TEST(Wavelets, NormsMatchAssembledGram) {
         }
       }
 }
+
+TEST(FilterBank, SingularVertexRuleBlockIsReportedWithItsLevel) {
+  // Two identical rows: singular. The message must name the level.
+  SparseMatrix P(3, 3);
+  std::vector<Eigen::Triplet<double>> t = {{0, 0, 0.5}, {0, 1, 0.5}, {1, 0, 0.5},
+                                           {1, 1, 0.5}, {2, 2, 1.0}};
+  P.setFromTriplets(t.begin(), t.end());
+  Points rhs = Points::Ones(3, 3);
+  rhs(1, 0) = 2.0;  // inconsistent right-hand side
+  try {
+    solveOldBlock(P, 4, rhs);
+    FAIL() << "expected an Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("level 4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+  }
+  // A regular block solves to its true residual.
+  SparseMatrix Q(3, 3);
+  std::vector<Eigen::Triplet<double>> q = {{0, 0, 0.75}, {0, 1, 0.25}, {1, 1, 1.0}, {2, 2, 0.5}};
+  Q.setFromTriplets(q.begin(), q.end());
+  const Points u = solveOldBlock(Q, 0, rhs);
+  EXPECT_LT((Q * u - rhs).cwiseAbs().maxCoeff(), 1e-14);
+}
