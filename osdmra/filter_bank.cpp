@@ -14,7 +14,7 @@ FilterBank makeFilterBank(const Hierarchy& h, Scheme scheme, const WaveletOption
   bank.scheme = scheme;
   bank.wavelets = wavelets;
   bank.hierarchy = &h;
-  bank.alpha = waveletCorrections(h, scheme, wavelets, progress, &bank.stats);
+  bank.alpha = waveletCorrections(h, scheme, wavelets, progress, &bank.stats, &bank.norms);
   return bank;
 }
 

@@ -26,6 +26,7 @@ struct FilterBank {
   WaveletOptions wavelets;
   const Hierarchy* hierarchy = nullptr;  ///< not owned; must outlive the filter bank
   std::vector<AlphaMatrix> alpha;        ///< alpha^j, j = 0..J-1 (wavelets.h)
+  std::vector<Eigen::VectorXd> norms;    ///< ||psi^j_m||, for truncation (truncation.h)
   WaveletStats stats;
 };
 
