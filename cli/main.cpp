@@ -20,6 +20,7 @@
 #include "osdmra/io.h"
 #include "osdmra/mra_file.h"
 #include "osdmra/shapes.h"
+#include "osdmra/truncation.h"
 
 #ifndef OSDMRA_DATA_DIR
 #define OSDMRA_DATA_DIR ""
@@ -50,8 +51,9 @@ commands:
   analyze IN -o OUT.mra [--levels J] [--scheme loop|linear]
                  [--wavelets lazy|quasi|pre] [--rings R]
                                decompose a surface into base mesh + wavelet details
-  synthesize IN.mra -o OUT [--level j]
-                               rebuild the surface (or its level-j approximation)
+  synthesize IN.mra -o OUT [--level j] [--keep F | --epsilon E] [--importance scaled|plain]
+                               rebuild the surface (or its level-j approximation),
+                               optionally from the most important coefficients only
   mask IN --level j --vertex i [--scheme loop|linear]
                                subdivision and inner-product masks around a vertex
                                of level j over the base mesh IN (paper, Fig. 4, 5)
@@ -311,15 +313,38 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
 }
 
 int cmdSynthesize(const std::vector<std::string>& argv) {
-  Args args("synthesize", argv, {"level", "output"}, flags());
+  Args args("synthesize", argv, {"level", "output", "keep", "epsilon", "importance"}, flags());
   args.expectPositional(1, "one coefficient file: osdmra synthesize IN.mra -o OUT");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");
+  if (args.has("keep") && args.has("epsilon"))
+    throw Error("synthesize: give --keep or --epsilon, not both");
   const auto t0 = Clock::now();
-  const Decomposition d = readMra(in);
+  Decomposition d = readMra(in);
   const int level = static_cast<int>(args.integer("level", d.levels, 0, d.levels));
   const Hierarchy h(d.baseFaces, static_cast<int>(d.base.rows()), d.levels);
   const FilterBank bank = makeFilterBank(h, d.scheme, d.wavelets, opt.progress);
+  // Truncation as lossy compression: keep the most important coefficients only.
+  const bool truncated = args.has("keep") || args.has("epsilon");
+  long long total = 0, kept = 0;
+  double l2 = 0.0;
+  if (truncated) {
+    const std::string how = args.get("importance", "scaled");
+    if (how != "scaled" && how != "plain")
+      throw Error("synthesize: --importance must be scaled or plain, got '" + how + "'");
+    const auto imp =
+        importance(d, bank.norms, how == "plain" ? Importance::Plain : Importance::Scaled);
+    for (const auto& l : imp) total += l.size();
+    const KeepMask keep =
+        args.has("keep")
+            ? keepLargest(imp, static_cast<long long>(std::llround(
+                                   args.real("keep", 1.0, 0.0, 1.0) * static_cast<double>(total))))
+            : keepAbove(imp, args.real("epsilon", 0.0, 0.0, 1e300));
+    kept = countKept(keep);
+    const Decomposition t = truncate(d, keep);
+    l2 = l2Distance(h, d.scheme, synthesize(bank, t, d.levels), synthesize(bank, d, d.levels));
+    d = t;
+  }
   TriMesh mesh;
   mesh.V = synthesize(bank, d, level, opt.progress);
   mesh.F = h.faces(level);
@@ -332,22 +357,32 @@ int cmdSynthesize(const std::vector<std::string>& argv) {
   }
   writeMesh(out, mesh);
   const double t = seconds(t0);
+  const double diag = boundingBoxDiagonal(mesh.V);
+  // RMS over the parameter domain: every base triangle has area 1.
+  const double rms = l2 / std::sqrt(static_cast<double>(d.baseFaces.rows()));
   if (opt.json) {
-    std::cout << Json::object()
-                     .add("command", "synthesize")
-                     .add("input", in)
-                     .add("output", out)
-                     .add("level", level)
-                     .add("levels", d.levels)
-                     .add("scheme", schemeName(d.scheme))
-                     .add("vertices", static_cast<int>(mesh.V.rows()))
-                     .add("faces", static_cast<int>(mesh.F.rows()))
-                     .add("seconds", t)
-                     .str()
-              << "\n";
+    Json j = Json::object()
+                 .add("command", "synthesize")
+                 .add("input", in)
+                 .add("output", out)
+                 .add("level", level)
+                 .add("levels", d.levels)
+                 .add("scheme", schemeName(d.scheme))
+                 .add("vertices", static_cast<int>(mesh.V.rows()))
+                 .add("faces", static_cast<int>(mesh.F.rows()));
+    if (truncated)
+      j.add("coefficients", total)
+          .add("kept", kept)
+          .add("l2_error", l2)
+          .add("rms_parametric_error_relative", diag > 0 ? rms / diag : 0.0);
+    std::cout << j.add("seconds", t).str() << "\n";
   } else {
     std::cout << "wrote " << out << ": level " << level << " of " << d.levels << ", "
               << mesh.V.rows() << " vertices, " << mesh.F.rows() << " faces (" << t << " s)\n";
+    if (truncated)
+      std::printf("kept %lld of %lld coefficients; L2 error %.6g (parametric RMS %.3g of the "
+                  "bounding-box diagonal)\n",
+                  kept, total, l2, diag > 0 ? rms / diag : 0.0);
   }
   return 0;
 }
