@@ -140,7 +140,7 @@ for scheme in ("loop", "linear"):
 
 w("**Default: r = 1** (`kDefaultRings` in `osdmra/wavelets.h`). In these measurements the "
   "error of a truncated Loop expansion with r = 1 is within about 5% of r = 4 at every budget, "
-  "while r = 0 is 10-15% worse and lazy wavelets 40-70% worse; for the polyhedral scheme r = 1 "
+  "while r = 0 is 10-15% worse and lazy wavelets 50-75% worse; for the polyhedral scheme r = 1 "
   "is within 1% of r = 4. The cost of the precomputation roughly doubles with each extra ring "
   "(more distinct neighbourhoods and larger local systems), and analysis and synthesis slow down "
   "with the size of S(m). The orthogonality tables above show the same: each ring halves "
