@@ -64,13 +64,36 @@ struct SourceArray {
 }  // namespace
 
 struct Hierarchy::Impl {
-  std::unique_ptr<Far::TopologyRefiner> refiner;
   std::vector<Faces> faces;
-  std::vector<Connectivity> conn;
+  std::vector<int> numVertices;
   std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
-  mutable std::vector<SparseMatrix> P[2];
-  mutable std::mutex mutex;
+  std::vector<SparseMatrix> P[2];                       // [Loop, Linear] per level
+  // Connectivity is built on first use: analysis never walks the finest level.
+  mutable std::vector<std::unique_ptr<Connectivity>> conn;
+  mutable std::vector<std::once_flag> connOnce;
 };
+
+namespace {
+
+// P^{j+1} from OpenSubdiv's interpolation with the recording primvar.
+SparseMatrix extractRefinement(const Far::TopologyRefiner& R, Scheme scheme, int j) {
+  const int rows = R.GetLevel(j + 1).GetNumVertices(), cols = R.GetLevel(j).GetNumVertices();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(rows) * (scheme == Scheme::Loop ? 7 : 2));
+  Far::PrimvarRefinerReal<double> refiner(R);
+  SourceArray src;
+  CollectorArray dst{&triplets};
+  if (scheme == Scheme::Loop)
+    refiner.Interpolate(j + 1, src, dst);
+  else
+    refiner.InterpolateVarying(j + 1, src, dst);
+  SparseMatrix P(rows, cols);
+  P.setFromTriplets(triplets.begin(), triplets.end());
+  P.makeCompressed();
+  return P;
+}
+
+}  // namespace
 
 Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
     : impl_(std::make_unique<Impl>()) {
@@ -92,26 +115,26 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
   options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   lastFarError.clear();
-  impl_->refiner.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
-  if (!impl_->refiner) throw Error("OpenSubdiv rejected the base mesh: " + lastFarError);
+  // The refiner lives only as long as the constructor: everything osdmra needs from
+  // it (faces, edges, both refinement matrices) is copied out, which costs less
+  // memory than OpenSubdiv's full topology of every level.
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  if (!refiner) throw Error("OpenSubdiv rejected the base mesh: " + lastFarError);
   if (levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(levels);
-    uniform.fullTopologyInLastLevel = true;
-    impl_->refiner->RefineUniform(uniform);
+    // The last level needs its faces only: its edges and adjacency are never read.
+    uniform.fullTopologyInLastLevel = false;
+    refiner->RefineUniform(uniform);
   }
 
-  const Far::TopologyRefiner& R = *impl_->refiner;
+  const Far::TopologyRefiner& R = *refiner;
   for (int j = 0; j <= levels; ++j) {
     const Far::TopologyLevel& L = R.GetLevel(j);
     Faces F(L.GetNumFaces(), 3);
     for (int f = 0; f < L.GetNumFaces(); ++f) {
       auto fv = L.GetFaceVertices(f);
       for (int i = 0; i < 3; ++i) F(f, i) = fv[i];
-    }
-    std::vector<std::array<int, 2>> E(L.GetNumEdges());
-    for (int e = 0; e < L.GetNumEdges(); ++e) {
-      auto ev = L.GetEdgeVertices(e);
-      E[e] = {ev[0], ev[1]};
     }
     // Check the index conventions of the file comment against the refiner itself.
     if (j < levels) {
@@ -129,67 +152,61 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
           if (cf[i] != 4 * f + i)
             throw Error("OpenSubdiv child-face ordering unexpected at level " + std::to_string(j));
       }
+      std::vector<std::array<int, 2>> E(L.GetNumEdges());
+      for (int e = 0; e < L.GetNumEdges(); ++e) {
+        auto ev = L.GetEdgeVertices(e);
+        E[e] = {ev[0], ev[1]};
+      }
+      impl_->edges.push_back(std::move(E));
+      impl_->P[0].push_back(extractRefinement(R, Scheme::Loop, j));
+      impl_->P[1].push_back(extractRefinement(R, Scheme::Linear, j));
     }
-    impl_->conn.emplace_back(F, L.GetNumVertices());
+    impl_->numVertices.push_back(L.GetNumVertices());
     impl_->faces.push_back(std::move(F));
-    impl_->edges.push_back(std::move(E));
   }
-  impl_->P[0].resize(levels);
-  impl_->P[1].resize(levels);
+  impl_->conn.resize(levels + 1);
+  impl_->connOnce = std::vector<std::once_flag>(levels + 1);
 }
 
 Hierarchy::~Hierarchy() = default;
 Hierarchy::Hierarchy(Hierarchy&&) noexcept = default;
 Hierarchy& Hierarchy::operator=(Hierarchy&&) noexcept = default;
 
-int Hierarchy::levels() const {
-  return static_cast<int>(impl_->faces.size()) - 1;
-}
-int Hierarchy::numVertices(int j) const {
-  return impl_->conn[j].numVertices();
-}
-int Hierarchy::numFaces(int j) const {
-  return static_cast<int>(impl_->faces[j].rows());
-}
-const Faces& Hierarchy::faces(int j) const {
-  return impl_->faces[j];
-}
+int Hierarchy::levels() const { return static_cast<int>(impl_->faces.size()) - 1; }
+int Hierarchy::numVertices(int j) const { return impl_->numVertices[j]; }
+int Hierarchy::numFaces(int j) const { return static_cast<int>(impl_->faces[j].rows()); }
+const Faces& Hierarchy::faces(int j) const { return impl_->faces[j]; }
+
 const Connectivity& Hierarchy::connectivity(int j) const {
-  return impl_->conn[j];
+  std::call_once(impl_->connOnce[j], [&] {
+    impl_->conn[j] = std::make_unique<Connectivity>(impl_->faces[j], impl_->numVertices[j]);
+  });
+  return *impl_->conn[j];
 }
 
-std::array<int, 2> Hierarchy::parentEdge(int j, int e) const {
-  return impl_->edges[j][e];
-}
+std::array<int, 2> Hierarchy::parentEdge(int j, int e) const { return impl_->edges[j][e]; }
 
 int Hierarchy::midpoint(int j, int a, int b) const {
-  const Far::TopologyLevel& L = impl_->refiner->GetLevel(j);
-  const int e = L.FindEdge(a, b);
-  return e < 0 ? -1 : numVertices(j) + e;
+  // The child faces of face f = (v0, v1, v2) are (v0, m0, m2), (m0, v1, m1), ...:
+  // the midpoint of the face's edge i is read off them.
+  const Connectivity& c = connectivity(j);
+  const Faces& fine = impl_->faces[j + 1];
+  auto fromHalfedge = [&](int h) {
+    const int f = h / 3, i = h % 3;
+    return i == 0 ? fine(4 * f, 1) : i == 1 ? fine(4 * f + 1, 2) : fine(4 * f, 2);
+  };
+  for (int h : c.fan(a))
+    if (c.to(h) == b) return fromHalfedge(h);
+  for (int h : c.fan(b))
+    if (c.to(h) == a) return fromHalfedge(h);
+  return -1;
 }
 
 const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {
   if (j < 0 || j >= levels())
     throw Error("refinement level " + std::to_string(j) + " out of range 0.." +
                 std::to_string(levels() - 1));
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  SparseMatrix& P = impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
-  if (P.rows() == 0) {
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(numVertices(j + 1)) *
-                     (scheme == Scheme::Loop ? 7 : 2));
-    Far::PrimvarRefinerReal<double> refiner(*impl_->refiner);
-    SourceArray src;
-    CollectorArray dst{&triplets};
-    if (scheme == Scheme::Loop)
-      refiner.Interpolate(j + 1, src, dst);
-    else
-      refiner.InterpolateVarying(j + 1, src, dst);
-    P.resize(numVertices(j + 1), numVertices(j));
-    P.setFromTriplets(triplets.begin(), triplets.end());
-    P.makeCompressed();
-  }
-  return P;
+  return impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
 }
 
 Faces Hierarchy::baseFacesFromCanonical(const Faces& finest, int levels) {

@@ -50,6 +50,7 @@ class Hierarchy {
   int numVertices(int j) const;
   int numFaces(int j) const;
   const Faces& faces(int j) const;
+  /// Adjacency of M^j, built on first use (thread-safe).
   const Connectivity& connectivity(int j) const;
 
   /// Endpoints (in M^j) of the edge whose midpoint is vertex n_j + e of M^{j+1}.
@@ -59,7 +60,7 @@ class Hierarchy {
 
   /// P^{j+1} (n_{j+1} x n_j) for 0 <= j < J, taken from OpenSubdiv: Loop's vertex
   /// interpolation, or the varying (linear) interpolation on the same refiner.
-  /// Every row sums to 1. Computed on first use and cached.
+  /// Every row sums to 1.
   const SparseMatrix& refinement(Scheme scheme, int j) const;
 
   /// The base faces of a mesh given in canonical order at level `levels` (see the

@@ -291,21 +291,19 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
     // encoding it and reuse the regular solution.
     lattice.advance(h, j);
-    // alpha^j in compressed column form, one column per new vertex in order, rows
-    // sorted within each column.
-    std::vector<int> outer{0}, inner;
-    std::vector<double> values;
-    outer.reserve(numNew + 1);
+    // alpha^j filled column by column in compressed form (rows sorted within each
+    // column), straight into its final storage.
+    AlphaMatrix& alpha = alphas[j];
+    alpha.resize(n, numNew);
+    alpha.reserve(static_cast<Eigen::Index>(numNew) *
+                  (regularEntry ? regularEntry->alpha.size() : 2 * (r + 1) * (r + 2) + 2));
     std::vector<std::pair<int, double>> column;
-    auto appendColumn = [&](const int* rows, const Eigen::VectorXd& a) {
+    auto appendColumn = [&](int e, const int* rows, const Eigen::VectorXd& a) {
       column.clear();
       for (Eigen::Index i = 0; i < a.size(); ++i) column.emplace_back(rows[i], a(i));
       std::sort(column.begin(), column.end());
-      for (auto [row, value] : column) {
-        inner.push_back(row);
-        values.push_back(value);
-      }
-      outer.push_back(static_cast<int>(inner.size()));
+      alpha.startVec(e);
+      for (auto [row, value] : column) alpha.insertBack(row, e) = value;
     };
     Eigen::VectorXd levelNorms(norms ? numNew : 0);
     const double normScale = std::ldexp(1.0, -2 * (j + 1));
@@ -337,12 +335,12 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
         entry = &it->second;
         if (regular) regularEntry = *entry;
       }
-      appendColumn(ball.verts.data(), entry->alpha);
+      appendColumn(e, ball.verts.data(), entry->alpha);
       if (norms) levelNorms(e) = std::sqrt(entry->scaledNorm2 * normScale);
       ball.clear();
     }
-    alphas[j] = Eigen::Map<const AlphaMatrix>(n, numNew, static_cast<Eigen::Index>(inner.size()),
-                                              outer.data(), inner.data(), values.data());
+    alpha.finalize();
+    alpha.makeCompressed();
     if (norms) (*norms)[j] = std::move(levelNorms);
   }
   if (progress) progress("wavelets", 1.0);
