@@ -164,12 +164,15 @@ TriMesh valences() {
     f.push_back({c, a, x});
   };
   // South faces (2i+1) only, so the north apex keeps valence 10.
-  insert(1);  // (1,0,S): v0, v1 -> 5
-  insert(3);  // (2,1,S): v1 -> 6, v2 -> 5
-  insert(5);  // (3,2,S): v2 -> 6, v3 -> 5
-  insert(1);  // (1,0,x): v0 -> 6, v1 -> 7
-  insert(1);  // again:   v0 -> 7, v1 -> 8
-  insert(1);  // again:   v0 -> 8, v1 -> 9
+  insert(1);   // (1,0,S): v0, v1 -> 5
+  insert(3);   // (2,1,S): v1 -> 6, v2 -> 5
+  insert(5);   // (3,2,S): v2 -> 6, v3 -> 5
+  insert(1);   // (1,0,x): v0 -> 6, v1 -> 7
+  insert(1);   // again:   v0 -> 7, v1 -> 8
+  insert(1);   // again:   v0 -> 8, v1 -> 9
+  insert(24);  // (2,S,x) made by the third insertion: v2 -> 7
+  insert(7);   // (4,3,S): v3 -> 6, v4 -> 5
+  insert(9);   // (5,4,S): v4 -> 6, v5 -> 5
   return make(v, f);
 }
 

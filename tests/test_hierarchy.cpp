@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "osdmra/hierarchy.h"
+#include "osdmra/mesh.h"
 using namespace osdmra;
 TEST(Hierarchy, OctahedronCounts) {
   Faces F(8, 3);
@@ -9,4 +12,58 @@ TEST(Hierarchy, OctahedronCounts) {
   EXPECT_EQ(h.numVertices(3), 4 * 4 * 4 * 8 / 2 + 2);
   const auto& P = h.refinement(Scheme::Loop, 2);
   for (int r = 0; r < P.rows(); ++r) EXPECT_NEAR(P.row(r).sum(), 1.0, 1e-15);
+}
+
+#include "osdmra/shapes.h"
+
+// The test shapes have the topology their names promise.
+TEST(Shapes, TopologyAsAdvertised) {
+  struct Expect {
+    const char* name;
+    int genus, loops;
+  };
+  for (Expect e : {Expect{"tetrahedron", 0, 0}, Expect{"octahedron", 0, 0},
+                   Expect{"icosahedron", 0, 0}, Expect{"torus", 1, 0}, Expect{"genus2", 2, 0},
+                   Expect{"genus3", 3, 0}, Expect{"disc", 0, 1}, Expect{"cylinder", 0, 2},
+                   Expect{"valences", 0, 0}}) {
+    SCOPED_TRACE(e.name);
+    const TriMesh m = shapes::byName(e.name);
+    validate(m, e.name);
+    const Connectivity c(m.F, static_cast<int>(m.V.rows()));
+    EXPECT_EQ(c.numComponents(), 1);
+    EXPECT_EQ(c.numBoundaryLoops(), e.loops);
+    EXPECT_EQ((2 - c.eulerCharacteristic() - e.loops) / 2, e.genus);
+  }
+  // Valences 3 to at least 10 in one mesh.
+  const TriMesh v = shapes::valences();
+  const Connectivity c(v.F, static_cast<int>(v.V.rows()));
+  std::set<int> seen;
+  for (int i = 0; i < c.numVertices(); ++i) seen.insert(c.valence(i));
+  for (int k = 3; k <= 10; ++k) EXPECT_TRUE(seen.count(k)) << "valence " << k;
+}
+
+// Index conventions of hierarchy.h, checked against the faces themselves.
+TEST(Hierarchy, ChildFacesAndMidpoints) {
+  const TriMesh base = shapes::slab(2);
+  Hierarchy h(base.F, static_cast<int>(base.V.rows()), 2);
+  for (int j = 0; j < 2; ++j) {
+    const Faces& F = h.faces(j);
+    const Faces& G = h.faces(j + 1);
+    for (int f = 0; f < F.rows(); ++f) {
+      const int m0 = h.midpoint(j, F(f, 0), F(f, 1)), m1 = h.midpoint(j, F(f, 1), F(f, 2)),
+                m2 = h.midpoint(j, F(f, 2), F(f, 0));
+      EXPECT_EQ(G.row(4 * f), Eigen::RowVector3i(F(f, 0), m0, m2));
+      EXPECT_EQ(G.row(4 * f + 1), Eigen::RowVector3i(m0, F(f, 1), m1));
+      EXPECT_EQ(G.row(4 * f + 2), Eigen::RowVector3i(m2, m1, F(f, 2)));
+      EXPECT_EQ(G.row(4 * f + 3), Eigen::RowVector3i(m1, m2, m0));
+      for (int m : {m0, m1, m2}) {
+        ASSERT_GE(m, h.numVertices(j));
+        const auto [a, b] = h.parentEdge(j, m - h.numVertices(j));
+        EXPECT_EQ(h.midpoint(j, a, b), m);
+      }
+    }
+  }
+  // Canonical order round trip: the finest faces give back the base and the levels.
+  EXPECT_EQ(Hierarchy::detectCanonicalLevels(h.faces(2), h.numVertices(2)), 2);
+  EXPECT_TRUE(Hierarchy::baseFacesFromCanonical(h.faces(2), 2) == base.F);
 }
