@@ -228,12 +228,15 @@ Hierarchy hierarchyOf(const TriMesh& mesh, const Args& args, const std::string& 
   return Hierarchy::fromCanonical(mesh.F, n, J);
 }
 
+// Largest |d^j_m| of a level (0 for a level without coefficients).
+double maxDetail(const Points& d) {
+  return d.rows() ? d.rowwise().norm().maxCoeff() : 0.0;
+}
+
 Json levelsJson(const Hierarchy& h, const Decomposition& d) {
   Json levels = Json::array();
   for (int j = 0; j < d.levels; ++j) {
-    double maxNorm = 0;
-    for (Eigen::Index i = 0; i < d.details[j].rows(); ++i)
-      maxNorm = std::max(maxNorm, d.details[j].row(i).norm());
+    const double maxNorm = maxDetail(d.details[j]);
     levels.push(Json::object()
                     .add("level", j)
                     .add("vertices", h.numVertices(j + 1))
@@ -299,12 +302,9 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
   if (w.kind == WaveletKind::Quasi) std::printf(" (r = %d rings)", w.rings);
   std::printf(", %lld distinct neighbourhoods solved\n", bank.stats.localSolves);
   std::printf("  level  coefficients  max |d|\n");
-  for (int j = 0; j < d.levels; ++j) {
-    double maxNorm = 0;
-    for (Eigen::Index i = 0; i < d.details[j].rows(); ++i)
-      maxNorm = std::max(maxNorm, d.details[j].row(i).norm());
-    std::printf("  %5d  %12d  %.6g\n", j, static_cast<int>(d.details[j].rows()), maxNorm);
-  }
+  for (int j = 0; j < d.levels; ++j)
+    std::printf("  %5d  %12d  %.6g\n", j, static_cast<int>(d.details[j].rows()),
+                maxDetail(d.details[j]));
   std::printf("time: read %.3f s, precompute %.3f s, analysis %.3f s, synthesis %.3f s\n", tRead,
               tPre, tAnalysis, tSynthesis);
   std::printf("reconstruction error (max abs / bbox diagonal): %.3g\n", error);
@@ -380,9 +380,10 @@ int cmdSynthesize(const std::vector<std::string>& argv) {
     std::cout << "wrote " << out << ": level " << level << " of " << d.levels << ", "
               << mesh.V.rows() << " vertices, " << mesh.F.rows() << " faces (" << t << " s)\n";
     if (truncated)
-      std::printf("kept %lld of %lld coefficients; L2 error %.6g (parametric RMS %.3g of the "
-                  "bounding-box diagonal)\n",
-                  kept, total, l2, diag > 0 ? rms / diag : 0.0);
+      std::printf(
+          "kept %lld of %lld coefficients; L2 error %.6g (parametric RMS %.3g of the "
+          "bounding-box diagonal)\n",
+          kept, total, l2, diag > 0 ? rms / diag : 0.0);
   }
   return 0;
 }

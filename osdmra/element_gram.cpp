@@ -7,21 +7,11 @@
 #include <unordered_map>
 
 #include "osdmra/error.h"
+#include "osdmra/key_hash.h"
 
 namespace osdmra {
 
 namespace {
-
-struct KeyHash {
-  std::size_t operator()(const std::vector<int>& k) const {
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the ints
-    for (int x : k) {
-      h ^= static_cast<std::uint32_t>(x);
-      h *= 1099511628211ull;
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
 
 // Canonical description of the fans of a triangle's three vertices, starting at
 // corner `rot`: for each corner t (in order), whether it is on the boundary, its

@@ -58,8 +58,8 @@ void analysisStep(const FilterBank& bank, int j, const Points& fine, Points& coa
     throw Error("analysis: level " + std::to_string(j + 1) + " needs " + std::to_string(nn) +
                 " points");
   const SparseMatrix& P = h.refinement(bank.scheme, j);
-  const Points u =
-      bank.scheme == Scheme::Linear ? Points(fine.topRows(n)) : solveOldBlock(P.topRows(n), j, fine.topRows(n));
+  const Points u = bank.scheme == Scheme::Linear ? Points(fine.topRows(n))
+                                                 : solveOldBlock(P.topRows(n), j, fine.topRows(n));
   detail = fine.bottomRows(nn - n) - P.bottomRows(nn - n) * u;
   coarse = u + bank.alpha[j] * detail;
 }

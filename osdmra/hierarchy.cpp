@@ -67,7 +67,7 @@ struct Hierarchy::Impl {
   std::vector<Faces> faces;
   std::vector<int> numVertices;
   std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
-  std::vector<SparseMatrix> P[2];                       // [Loop, Linear] per level
+  std::vector<SparseMatrix> P[2];                      // [Loop, Linear] per level
   // Connectivity is built on first use: analysis never walks the finest level.
   mutable std::vector<std::unique_ptr<Connectivity>> conn;
   mutable std::vector<std::once_flag> connOnce;
@@ -172,10 +172,18 @@ Hierarchy::~Hierarchy() = default;
 Hierarchy::Hierarchy(Hierarchy&&) noexcept = default;
 Hierarchy& Hierarchy::operator=(Hierarchy&&) noexcept = default;
 
-int Hierarchy::levels() const { return static_cast<int>(impl_->faces.size()) - 1; }
-int Hierarchy::numVertices(int j) const { return impl_->numVertices[j]; }
-int Hierarchy::numFaces(int j) const { return static_cast<int>(impl_->faces[j].rows()); }
-const Faces& Hierarchy::faces(int j) const { return impl_->faces[j]; }
+int Hierarchy::levels() const {
+  return static_cast<int>(impl_->faces.size()) - 1;
+}
+int Hierarchy::numVertices(int j) const {
+  return impl_->numVertices[j];
+}
+int Hierarchy::numFaces(int j) const {
+  return static_cast<int>(impl_->faces[j].rows());
+}
+const Faces& Hierarchy::faces(int j) const {
+  return impl_->faces[j];
+}
 
 const Connectivity& Hierarchy::connectivity(int j) const {
   std::call_once(impl_->connOnce[j], [&] {
@@ -184,7 +192,9 @@ const Connectivity& Hierarchy::connectivity(int j) const {
   return *impl_->conn[j];
 }
 
-std::array<int, 2> Hierarchy::parentEdge(int j, int e) const { return impl_->edges[j][e]; }
+std::array<int, 2> Hierarchy::parentEdge(int j, int e) const {
+  return impl_->edges[j][e];
+}
 
 int Hierarchy::midpoint(int j, int a, int b) const {
   // The child faces of face f = (v0, v1, v2) are (v0, m0, m2), (m0, v1, m1), ...:

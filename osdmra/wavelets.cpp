@@ -10,6 +10,7 @@
 
 #include "osdmra/error.h"
 #include "osdmra/gram.h"
+#include "osdmra/key_hash.h"
 
 namespace osdmra {
 
@@ -26,17 +27,6 @@ const char* waveletKindName(WaveletKind k) {
 }
 
 namespace {
-
-struct KeyHash {
-  std::size_t operator()(const std::vector<int>& k) const {
-    std::uint64_t h = 1469598103934665603ull;
-    for (int x : k) {
-      h ^= static_cast<std::uint32_t>(x);
-      h *= 1099511628211ull;
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
 
 // Breadth-first ball of radius K around the oriented edge (a, b), with a canonical
 // encoding: every ring is read counter-clockwise from the neighbour the search came
