@@ -19,6 +19,7 @@
 #include "osdmra/gram.h"
 #include "osdmra/io.h"
 #include "osdmra/mra_file.h"
+#include "osdmra/recovery.h"
 #include "osdmra/shapes.h"
 #include "osdmra/truncation.h"
 
@@ -43,14 +44,15 @@ const char* kUsage = R"(osdmra: wavelet multiresolution analysis of subdivision 
 usage: osdmra <command> [options]
 
 commands:
-  info IN                      topology of a mesh, and its subdivision levels if it
-                               is in osdmra's canonical order
+  info IN                      topology of a mesh, and its subdivision connectivity
+                               (levels, base mesh) found from connectivity alone
   subdivide BASE --levels J -o OUT [--scheme loop|linear] [--displace A --seed N]
                                refine a base mesh J times (a test surface when
                                displaced by noise at every level)
   analyze IN -o OUT.mra [--levels J] [--scheme loop|linear]
                  [--wavelets lazy|quasi|pre] [--rings R]
-                               decompose a surface into base mesh + wavelet details
+                               decompose a surface with subdivision connectivity (any
+                               vertex and face order) into base mesh + wavelet details
   synthesize IN.mra -o OUT [--level j] [--keep F | --epsilon E] [--importance scaled|plain]
                                rebuild the surface (or its level-j approximation),
                                optionally from the most important coefficients only
@@ -145,15 +147,18 @@ int cmdInfo(const std::vector<std::string>& argv) {
   const TriMesh mesh = readValidMesh(in);
   const Connectivity c(mesh.F, static_cast<int>(mesh.V.rows()));
   Json j = topologyJson(mesh, c);
-  const int J = Hierarchy::detectCanonicalLevels(mesh.F, static_cast<int>(mesh.V.rows()));
-  j.add("canonical_levels", J);
-  int baseV = 0, baseF = 0;
-  if (J > 0) {
-    const Faces base = Hierarchy::baseFacesFromCanonical(mesh.F, J);
-    baseF = static_cast<int>(base.rows());
-    baseV = base.maxCoeff() + 1;
-    j.add("base_vertices", baseV).add("base_faces", baseF);
+  const auto t0 = Clock::now();
+  const Recovery r = recoverSubdivision(mesh.F, static_cast<int>(mesh.V.rows()));
+  const double tRecover = seconds(t0);
+  const std::string structure = describe(r);
+  j.add("levels", r.levels).add("structure", structure);
+  if (r.levels > 0) {
+    const TriMesh base{Points::Zero(r.numBaseVertices, 3), r.baseFaces, Points()};
+    const Connectivity bc(r.baseFaces, r.numBaseVertices);
+    j.add("base", topologyJson(base, bc).add("arbitrary_choice", r.arbitraryChoice));
   }
+  if (!r.stopReason.empty()) j.add("next_level_fails_because", r.stopReason);
+  j.add("recover_seconds", tRecover);
   if (opt.json) {
     std::cout << Json::object().add("file", in).add("mesh", j).str() << "\n";
     return 0;
@@ -163,12 +168,10 @@ int cmdInfo(const std::vector<std::string>& argv) {
             << c.numEdges() << " edges\n"
             << "  components " << components << ", boundary loops " << loops << ", genus "
             << (2 * components - c.eulerCharacteristic() - loops) / 2 << "\n"
-            << "  bounding-box diagonal " << boundingBoxDiagonal(mesh.V) << "\n";
-  if (J > 0)
-    std::cout << "  subdivision connectivity in canonical order: " << J << " levels over a base of "
-              << baseV << " vertices and " << baseF << " faces\n";
-  else
-    std::cout << "  not in osdmra's canonical subdivision order (no levels found)\n";
+            << "  bounding-box diagonal " << boundingBoxDiagonal(mesh.V) << "\n"
+            << "  " << structure << "\n";
+  if (r.levels > 0 && !r.stopReason.empty())
+    std::cout << "  (one level further down fails: " << r.stopReason << ")\n";
   return 0;
 }
 
@@ -208,24 +211,14 @@ int cmdSubdivide(const std::vector<std::string>& argv) {
   return 0;
 }
 
-// The hierarchy of a surface in canonical order, with its level count given or found.
-Hierarchy hierarchyOf(const TriMesh& mesh, const Args& args, const std::string& in) {
-  const int n = static_cast<int>(mesh.V.rows());
-  if (args.has("levels")) {
-    const int J = static_cast<int>(args.integer("levels", 0, 0, 15));
-    try {
-      return Hierarchy::fromCanonical(mesh.F, n, J);
-    } catch (const Error& e) {
-      throw Error(in + ": " + e.what());
-    }
+// The surface of `mesh` in canonical form, with its level count given or found.
+CanonicalSurface surfaceOf(const TriMesh& mesh, const Args& args, const std::string& in) {
+  const int J = static_cast<int>(args.integer("levels", -1, 1, 15));
+  try {
+    return canonicalSurface(mesh, J);
+  } catch (const Error& e) {
+    throw Error(in + ": " + e.what());
   }
-  const int J = Hierarchy::detectCanonicalLevels(mesh.F, n);
-  if (J == 0)
-    throw Error(in +
-                ": no subdivision levels found: the mesh is not in osdmra's canonical order "
-                "(base vertices first, then each level's new vertices; faces grouped by base "
-                "face). Pass --levels J to see why a given J does not fit.");
-  return Hierarchy::fromCanonical(mesh.F, n, J);
 }
 
 // Largest |d^j_m| of a level (0 for a level without coefficients).
@@ -256,18 +249,23 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
   const auto t0 = Clock::now();
   const TriMesh mesh = readValidMesh(in);
   const double tRead = seconds(t0);
-  const Hierarchy h = hierarchyOf(mesh, args, in);
+  const auto tr = Clock::now();
+  const CanonicalSurface surface = surfaceOf(mesh, args, in);
+  const Hierarchy& h = surface.hierarchy;
+  const double tRecover = seconds(tr);
   const auto t1 = Clock::now();
   const FilterBank bank = makeFilterBank(h, scheme, w, opt.progress);
   const double tPre = seconds(t1);
   const auto t2 = Clock::now();
-  Decomposition d = analyze(bank, mesh.V, opt.progress);
+  Decomposition d = analyze(bank, surface.V, opt.progress);
+  d.inputOrder = surface.inputOrder;
+  d.inputFaces = surface.inputFaces;
   const double tAnalysis = seconds(t2);
   const auto t3 = Clock::now();
   const Points back = synthesize(bank, d, d.levels);
   const double tSynthesis = seconds(t3);
   const double diag = boundingBoxDiagonal(mesh.V);
-  const double error = (back - mesh.V).cwiseAbs().maxCoeff() / (diag > 0 ? diag : 1.0);
+  const double error = (back - surface.V).cwiseAbs().maxCoeff() / (diag > 0 ? diag : 1.0);
   writeMra(out, d);
   if (opt.json) {
     std::cout << Json::object()
@@ -285,8 +283,11 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
                      .add("per_level", levelsJson(h, d))
                      .add("local_solves", static_cast<long long>(bank.stats.localSolves))
                      .add("reconstruction_error", error)
+                     .add("structure", describe(surface.recovery))
+                     .add("reordered", !surface.inputOrder.empty())
                      .add("seconds", Json::object()
                                          .add("read", tRead)
+                                         .add("recover", tRecover)
                                          .add("precompute", tPre)
                                          .add("analysis", tAnalysis)
                                          .add("synthesis", tSynthesis))
@@ -305,8 +306,10 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
   for (int j = 0; j < d.levels; ++j)
     std::printf("  %5d  %12d  %.6g\n", j, static_cast<int>(d.details[j].rows()),
                 maxDetail(d.details[j]));
-  std::printf("time: read %.3f s, precompute %.3f s, analysis %.3f s, synthesis %.3f s\n", tRead,
-              tPre, tAnalysis, tSynthesis);
+  std::printf(
+      "time: read %.3f s, recover structure %.3f s, precompute %.3f s, analysis %.3f s, "
+      "synthesis %.3f s\n",
+      tRead, tRecover, tPre, tAnalysis, tSynthesis);
   std::printf("reconstruction error (max abs / bbox diagonal): %.3g\n", error);
   std::printf("wrote %s\n", out.c_str());
   return 0;

@@ -1,14 +1,14 @@
 // End-to-end tests of the osdmra command-line tool: round trips through files,
 // JSON summaries, and refusals with a clear message, a non-zero exit and no output.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "osdmra/io.h"
 #include "osdmra/shapes.h"
@@ -59,10 +59,10 @@ TEST_F(Cli, SubdivideAnalyzeSynthesizeRoundTrip) {
     SCOPED_TRACE(scheme);
     ASSERT_EQ(run("shape genus2 -o " + path("g2.obj")).status, 0);
     const Result sub = run("subdivide " + path("g2.obj") + " --levels 3 --scheme " + scheme +
-                        " --displace 0.05 --seed 11 -o " + path("g2-3.ply"));
+                           " --displace 0.05 --seed 11 -o " + path("g2-3.ply"));
     ASSERT_EQ(sub.status, 0) << sub.err;
     const Result an = run("analyze " + path("g2-3.ply") + " --scheme " + scheme +
-                       " --rings 1 --json -o " + path("g2.mra"));
+                          " --rings 1 --json -o " + path("g2.mra"));
     ASSERT_EQ(an.status, 0) << an.err;
     EXPECT_EQ(an.out.front(), '{');
     EXPECT_NE(an.out.find("\"levels\": 3"), std::string::npos) << an.out;
@@ -79,27 +79,44 @@ TEST_F(Cli, SubdivideAnalyzeSynthesizeRoundTrip) {
   }
 }
 
-TEST_F(Cli, AnalyzeRefusesMeshesOutOfCanonicalOrder) {
+TEST_F(Cli, AnalyzeTakesAnyOrderAndRefusesOtherMeshes) {
   ASSERT_EQ(run("shape octahedron -o " + path("oct.obj")).status, 0);
-  ASSERT_EQ(run("subdivide " + path("oct.obj") + " --levels 2 -o " + path("oct2.obj")).status, 0);
+  ASSERT_EQ(
+      run("subdivide " + path("oct.obj") + " --levels 2 --displace 0.05 -o " + path("oct2.obj"))
+          .status,
+      0);
   // The base mesh itself has no levels.
   Result r = run("analyze " + path("oct.obj") + " -o " + path("x.mra"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("oct.obj"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("no subdivision levels"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no subdivision connectivity"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.mra")));
-  // Wrong level count: the message says what does not fit.
+  // More levels than the mesh has: the message says how far down it goes.
   r = run("analyze " + path("oct2.obj") + " --levels 3 -o " + path("x.mra"));
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("canonical order"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2 levels over a base of 6 vertices and 8 faces"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("3 levels were asked for"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.mra")));
-  // Shuffled faces are not canonical.
+  // Vertices and faces in another order, corners rotated: analysed, and written back
+  // in the input's own order at full resolution.
   TriMesh m = readMesh(path("oct2.obj"));
-  m.F.row(0).swap(m.F.row(5));
-  writeMesh(path("shuffled.obj"), m);
-  r = run("analyze " + path("shuffled.obj") + " --levels 2 -o " + path("x.mra"));
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("canonical order"), std::string::npos) << r.err;
+  TriMesh shuffled = m;
+  const int n = static_cast<int>(m.V.rows());
+  for (int v = 0; v < n; ++v) shuffled.V.row((v * 37 + 11) % n) = m.V.row(v);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      shuffled.F((f * 5 + 3) % m.F.rows(), c) = (m.F(f, (c + f) % 3) * 37 + 11) % n;
+  writeMesh(path("shuffled.ply"), shuffled);
+  r = run("analyze " + path("shuffled.ply") + " --json -o " + path("s.mra"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"reordered\": true"), std::string::npos) << r.out;
+  ASSERT_EQ(run("synthesize " + path("s.mra") + " -o " + path("back.ply")).status, 0);
+  const TriMesh back = readMesh(path("back.ply"));
+  EXPECT_TRUE(back.F == shuffled.F);
+  EXPECT_LT((back.V - shuffled.V).cwiseAbs().maxCoeff(), 1e-12 * boundingBoxDiagonal(m.V));
+  r = run("info " + path("shuffled.ply") + " --json");
+  EXPECT_NE(r.out.find("\"levels\": 2"), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, ClearErrorsForBadArgumentsAndFiles) {
@@ -132,13 +149,16 @@ TEST_F(Cli, InfoFindsLevelsAndTopology) {
   ASSERT_EQ(run("subdivide " + path("cyl.obj") + " --levels 3 -o " + path("cyl3.ply")).status, 0);
   const Result r = run("info " + path("cyl3.ply") + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("\"canonical_levels\": 3"), std::string::npos) << r.out;
+  // The 6 x 3 cylinder is itself a split of a 3 x 2 one, with no extraordinary vertex
+  // to pin the choice: one more level, and the report says the base was a choice.
+  EXPECT_NE(r.out.find("\"levels\": 4"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"arbitrary_choice\": true"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"boundary_loops\": 2"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"genus\": 0"), std::string::npos) << r.out;
   const Result t = run("info " + std::string(OSDMRA_DATA_DIR) + "/igea-oct6.obj --json");
   ASSERT_EQ(t.status, 0) << t.err;
-  EXPECT_NE(t.out.find("\"canonical_levels\": 6"), std::string::npos) << t.out;
-  EXPECT_NE(t.out.find("\"base_faces\": 8"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("\"levels\": 6"), std::string::npos) << t.out;
+  EXPECT_NE(t.out.find("\"base\": {\"vertices\": 6, \"faces\": 8"), std::string::npos) << t.out;
 }
 
 TEST_F(Cli, PolyhedralMaskIsThePapersFigure5) {

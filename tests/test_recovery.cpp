@@ -1,0 +1,182 @@
+// Recovery of subdivision connectivity from meshes in any order (issue: any mesh with
+// subdivision connectivity, in any order).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <random>
+
+#include "osdmra/connectivity.h"
+#include "osdmra/filter_bank.h"
+#include "osdmra/recovery.h"
+#include "osdmra/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+// Vertices, faces and the corners within each face in random order.
+TriMesh shuffle(const TriMesh& m, std::uint64_t seed, std::vector<int>* newIndexOf = nullptr) {
+  std::mt19937_64 rng(seed);
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<int> perm(n);
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  std::shuffle(perm.begin(), perm.end(), rng);  // perm[old] = new
+  std::vector<int> order(m.F.rows());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::shuffle(order.begin(), order.end(), rng);
+  TriMesh out;
+  out.V.resize(n, 3);
+  for (int i = 0; i < n; ++i) out.V.row(perm[i]) = m.V.row(i);
+  out.F.resize(m.F.rows(), 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const int r = static_cast<int>(rng() % 3);
+    for (int c = 0; c < 3; ++c) out.F(f, c) = perm[m.F(order[f], (c + r) % 3)];
+  }
+  if (newIndexOf) *newIndexOf = perm;
+  return out;
+}
+
+TriMesh disjointUnion(const TriMesh& a, const TriMesh& b) {
+  TriMesh u;
+  u.V.resize(a.V.rows() + b.V.rows(), 3);
+  u.V << a.V, (b.V.rowwise() + Eigen::RowVector3d(10, 0, 0));
+  u.F.resize(a.F.rows() + b.F.rows(), 3);
+  u.F << a.F, (b.F.array() + static_cast<int>(a.V.rows())).matrix();
+  return u;
+}
+
+std::vector<int> sortedValences(const Faces& F, int n) {
+  const Connectivity c(F, n);
+  std::vector<int> v(n);
+  for (int i = 0; i < n; ++i) v[i] = c.valence(i);
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+int genus(const Faces& F, int n) {
+  const Connectivity c(F, n);
+  return (2 * c.numComponents() - c.eulerCharacteristic() - c.numBoundaryLoops()) / 2;
+}
+
+// Flips the interior edge shared by faces f and g; returns false if it cannot.
+bool flipEdge(Faces& F, int n, int f) {
+  const Connectivity c(F, n);
+  for (int i = 0; i < 3; ++i) {
+    const int h = 3 * f + i, t = c.twin(h);
+    if (t < 0) continue;
+    const int a = c.from(h), b = c.to(h), cc = c.to(Connectivity::next(h)),
+              d = c.to(Connectivity::next(t));
+    if (c.findEdge(cc, d) >= 0) continue;
+    F.row(f) << a, d, cc;
+    F.row(t / 3) << d, b, cc;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST(Recovery, ShuffledSubdivisionMeshesAtEveryLevel) {
+  std::vector<std::pair<std::string, TriMesh>> bases = shapes::all();
+  bases.push_back({"two components", disjointUnion(shapes::octahedron(), shapes::torus())});
+  for (const auto& [name, base] : bases) {
+    for (int J = 1; J <= 6; ++J) {
+      if ((base.F.rows() << (2 * J)) > 70000) break;
+      SCOPED_TRACE(name + ", J = " + std::to_string(J));
+      const TriMesh surface = subdivide(base, J, Scheme::Loop, 0.03, J);
+      const TriMesh input = shuffle(surface, 100 + J);
+      const Recovery r = recoverSubdivision(input.F, static_cast<int>(input.V.rows()));
+      // Regular shapes (no extraordinary vertex: torus, cylinder) may go further down.
+      const bool regular = name == "torus" || name == "cylinder";
+      if (regular)
+        ASSERT_GE(r.levels, J) << describe(r);
+      else
+        ASSERT_EQ(r.levels, J) << describe(r);
+      if (r.levels == J) {
+        EXPECT_EQ(r.baseFaces.rows(), base.F.rows());
+        EXPECT_EQ(r.numBaseVertices, base.V.rows());
+        EXPECT_EQ(sortedValences(r.baseFaces, r.numBaseVertices),
+                  sortedValences(base.F, static_cast<int>(base.V.rows())));
+        EXPECT_EQ(genus(r.baseFaces, r.numBaseVertices),
+                  genus(base.F, static_cast<int>(base.V.rows())));
+      }
+      // The canonical map is a bijection onto level J of the recovered hierarchy, and
+      // the faces map onto its faces.
+      Hierarchy h(r.baseFaces, r.numBaseVertices, r.levels);
+      const std::vector<int> canon = canonicalIndices(r, h);
+      std::vector<int> hits(h.numVertices(r.levels), 0);
+      for (int c : canon) ++hits[c];
+      EXPECT_TRUE(std::all_of(hits.begin(), hits.end(), [](int x) { return x == 1; }));
+      // Perfect reconstruction through analysis and synthesis of the shuffled input.
+      if (J <= 4) {
+        Points V(input.V.rows(), 3);
+        for (int v = 0; v < input.V.rows(); ++v) V.row(canon[v]) = input.V.row(v);
+        const FilterBank bank = makeFilterBank(h, Scheme::Loop, {WaveletKind::Quasi, 1});
+        const Decomposition d = analyze(bank, V);
+        const Points back = synthesize(bank, d, r.levels);
+        double err = 0;
+        for (int v = 0; v < input.V.rows(); ++v)
+          err = std::max(err, (back.row(canon[v]) - input.V.row(v)).cwiseAbs().maxCoeff());
+        EXPECT_LT(err, 1e-12 * boundingBoxDiagonal(input.V));
+      }
+    }
+  }
+}
+
+TEST(Recovery, NearMissesAreRejected) {
+  const TriMesh surface = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  const int n = static_cast<int>(surface.V.rows());
+  // One edge flipped.
+  {
+    Faces F = surface.F;
+    ASSERT_TRUE(flipEdge(F, n, 100));
+    const Recovery r = recoverSubdivision(F, n);
+    EXPECT_EQ(r.levels, 0) << describe(r);
+    EXPECT_NE(describe(r).find("no subdivision connectivity"), std::string::npos);
+    EXPECT_FALSE(r.stopReason.empty());
+  }
+  // A vertex added inside a face.
+  {
+    Faces F(surface.F.rows() + 2, 3);
+    F.topRows(surface.F.rows()) = surface.F;
+    const int a = F(7, 0), b = F(7, 1), c = F(7, 2);
+    F.row(7) << a, b, n;
+    F.row(surface.F.rows()) << b, c, n;
+    F.row(surface.F.rows() + 1) << c, a, n;
+    EXPECT_EQ(recoverSubdivision(F, n + 1).levels, 0);
+  }
+  // One face missing from a closed mesh.
+  {
+    Faces F = surface.F.bottomRows(surface.F.rows() - 1);
+    EXPECT_EQ(recoverSubdivision(F, n).levels, 0);
+  }
+  // A random triangulation: many flips.
+  {
+    Faces F = surface.F;
+    std::mt19937 rng(5);
+    for (int k = 0; k < 200; ++k) flipEdge(F, n, static_cast<int>(rng() % F.rows()));
+    EXPECT_EQ(recoverSubdivision(F, n).levels, 0);
+  }
+}
+
+TEST(Recovery, ReportsHowFarDownTheStructureGoes) {
+  // Split the octahedron once, flip an edge of that mesh, then split twice more: the
+  // structure goes down two levels, to a base of 32 faces, and no further.
+  const TriMesh level1 = subdivide(shapes::octahedron(), 1, Scheme::Linear);
+  TriMesh flipped = level1;
+  ASSERT_TRUE(flipEdge(flipped.F, static_cast<int>(flipped.V.rows()), 3));
+  const TriMesh surface = shuffle(subdivide(flipped, 2, Scheme::Linear), 9);
+  const Recovery r = recoverSubdivision(surface.F, static_cast<int>(surface.V.rows()));
+  EXPECT_EQ(r.levels, 2) << describe(r);
+  EXPECT_EQ(r.baseFaces.rows(), 32);
+  EXPECT_NE(describe(r).find("2 levels over a base of 18 vertices and 32 faces"), std::string::npos)
+      << describe(r);
+}
+
+TEST(Recovery, BaseMeshHasNoLevels) {
+  const TriMesh t = shapes::tetrahedron();
+  const Recovery r = recoverSubdivision(t.F, 4);
+  EXPECT_EQ(r.levels, 0);
+  EXPECT_EQ(r.baseFaces.rows(), 4);
+}
