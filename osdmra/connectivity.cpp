@@ -15,35 +15,40 @@ Connectivity::Connectivity(const Faces& F, int numVertices) : F_(F) {
   std::vector<int> out(nh), fill(outOffset.begin(), outOffset.end() - 1);
   for (int h = 0; h < nh; ++h) out[fill[from(h)]++] = h;
 
+  // Targets beside the halfedge ids: the scans below read one contiguous array
+  // instead of chasing each halfedge into the face list.
+  std::vector<int> outTo(nh);
+  for (int k = 0; k < nh; ++k) outTo[k] = to(out[k]);
+
   twin_.assign(nh, -1);
   halfedgeEdge_.assign(nh, -1);
   edgeHalfedge_.reserve(nh / 2 + 1);
   for (int h = 0; h < nh; ++h) {
     if (halfedgeEdge_[h] >= 0) continue;
     const int a = from(h), b = to(h);
-    int sameDir = 0, opposite = -1, numOpposite = 0;
+    // Halfedges a->b and b->a; a manifold, consistently oriented edge has one each.
+    int same[2], opp[2], sameDir = 0, numOpposite = 0;
     for (int k = outOffset[a]; k < outOffset[a + 1]; ++k)
-      if (to(out[k]) == b) ++sameDir;
+      if (outTo[k] == b && sameDir++ < 2) same[sameDir - 1] = out[k];
     for (int k = outOffset[b]; k < outOffset[b + 1]; ++k)
-      if (to(out[k]) == a) {
-        opposite = out[k];
-        ++numOpposite;
-      }
+      if (outTo[k] == a && numOpposite++ < 2) opp[numOpposite - 1] = out[k];
     const int e = static_cast<int>(edgeHalfedge_.size());
     edgeHalfedge_.push_back(h);
     if (sameDir + numOpposite > 2) {
       if (firstNonManifoldEdgeFace < 0) firstNonManifoldEdgeFace = h / 3;
-    } else if (sameDir == 2) {
-      if (firstFlippedFace < 0) firstFlippedFace = h / 3;
+      // Tag every halfedge on {a,b} with this edge; pair none of them.
+      for (int k = outOffset[a]; k < outOffset[a + 1]; ++k)
+        if (outTo[k] == b) halfedgeEdge_[out[k]] = e;
+      for (int k = outOffset[b]; k < outOffset[b + 1]; ++k)
+        if (outTo[k] == a) halfedgeEdge_[out[k]] = e;
+      continue;
     }
-    // Tag every halfedge on {a,b} with this edge; pair only a clean manifold edge.
-    for (int k = outOffset[a]; k < outOffset[a + 1]; ++k)
-      if (to(out[k]) == b) halfedgeEdge_[out[k]] = e;
-    for (int k = outOffset[b]; k < outOffset[b + 1]; ++k)
-      if (to(out[k]) == a) halfedgeEdge_[out[k]] = e;
+    if (sameDir == 2 && firstFlippedFace < 0) firstFlippedFace = h / 3;
+    for (int i = 0; i < sameDir; ++i) halfedgeEdge_[same[i]] = e;
+    for (int i = 0; i < numOpposite; ++i) halfedgeEdge_[opp[i]] = e;
     if (sameDir == 1 && numOpposite == 1) {
-      twin_[h] = opposite;
-      twin_[opposite] = h;
+      twin_[h] = opp[0];
+      twin_[opp[0]] = h;
     }
   }
 
@@ -68,8 +73,8 @@ Connectivity::Connectivity(const Faces& F, int numVertices) : F_(F) {
           // A boundary edge only if no halfedge of the same edge runs the other way.
           const int hh = out[k];
           bool paired = false;
-          for (int q = outOffset[to(hh)]; q < outOffset[to(hh) + 1]; ++q)
-            if (to(out[q]) == v) paired = true;
+          for (int q = outOffset[outTo[k]]; q < outOffset[outTo[k] + 1]; ++q)
+            if (outTo[q] == v) paired = true;
           if (!paired) {
             start = hh;
             ++starts;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <sstream>
-#include <unordered_map>
-#include <unordered_set>
 
 #include "osdmra/connectivity.h"
 #include "osdmra/error.h"
@@ -19,25 +17,6 @@ std::uint64_t pairKey(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
          static_cast<std::uint32_t>(b);
 }
-
-// A face up to the corner it starts at (orientation kept).
-struct Face3 {
-  int a, b, c;
-  Face3 rotated() const {
-    if (b < a && b < c) return {b, c, a};
-    if (c < a && c < b) return {c, a, b};
-    return *this;
-  }
-  bool operator==(const Face3& o) const { return a == o.a && b == o.b && c == o.c; }
-};
-struct Face3Hash {
-  std::size_t operator()(const Face3& f) const {
-    std::uint64_t h = static_cast<std::uint32_t>(f.a) * 0x9E3779B97F4A7C15ull;
-    h ^= (h >> 29) + static_cast<std::uint32_t>(f.b) * 0xBF58476D1CE4E5B9ull;
-    h ^= (h >> 31) + static_cast<std::uint32_t>(f.c) * 0x94D049BB133111EBull;
-    return static_cast<std::size_t>(h ^ (h >> 32));
-  }
-};
 
 bool regular(const Connectivity& c, int v) {
   return c.isBoundaryVertex(v) ? c.valence(v) == 4 : c.valence(v) == 6;
@@ -108,13 +87,14 @@ bool labelComponent(const Connectivity& c, int seed, const std::vector<int>& com
 }
 
 // Peels one round off (F, n). On success fills the coarse mesh and the round.
-bool peel(const Faces& F, int n, Faces& coarse, int& coarseCount, Recovery::Round& round,
-          bool& arbitrary, std::string& why) {
+bool peel(const Connectivity& c, Connectivity& coarseConn, Recovery::Round& round, bool& arbitrary,
+          std::string& why) {
+  const Faces& F = c.faces();
+  const int n = c.numVertices();
   if (F.rows() % 4 != 0) {
     why = "the face count " + std::to_string(F.rows()) + " is not a multiple of 4";
     return false;
   }
-  const Connectivity c(F, n);
   if (c.firstNonManifoldEdgeFace >= 0 || c.firstFlippedFace >= 0 || c.firstNonManifoldVertex >= 0 ||
       c.firstIsolatedVertex >= 0) {
     why = "the mesh is not a manifold";
@@ -164,32 +144,32 @@ bool peel(const Faces& F, int n, Faces& coarse, int& coarseCount, Recovery::Roun
 
   // Coarse numbering: old vertices in input order.
   round.coarseOf.assign(n, -1);
-  coarseCount = 0;
+  int coarseCount = 0;
   for (int v = 0; v < n; ++v)
     if (label[v] == Old) round.coarseOf[v] = coarseCount++;
   round.parents.assign(n, {-1, -1});
-  std::unordered_map<std::uint64_t, int> midpointOf;
-  midpointOf.reserve(static_cast<std::size_t>(n - coarseCount) * 2);
+  int numNew = 0;
   for (int v = 0; v < n; ++v)
     if (label[v] == New) {
       round.parents[v] = {round.coarseOf[parents[v][0]], round.coarseOf[parents[v][1]]};
-      if (!midpointOf.emplace(pairKey(parents[v][0], parents[v][1]), v).second) {
-        why = "two vertices are midpoints of the same edge " + std::to_string(parents[v][0]) + "-" +
-              std::to_string(parents[v][1]);
-        return false;
-      }
+      ++numNew;
     }
 
-  // Coarse faces from the centre faces (m1, m2, m0): corners are common parents.
+  // Coarse faces from the centre faces (m1, m2, m0) of split triangles (v0, v1, v2):
+  // v0 is the parent m2 and m0 share, and so on.
   auto common = [&](int x, int y) {
-    const auto& p = parents[x];
-    const auto& q = parents[y];
-    for (int a : p)
-      for (int b : q)
+    for (int a : parents[x])
+      for (int b : parents[y])
         if (a == b) return a;
     return -1;
   };
-  coarse.resize(F.rows() / 4, 3);
+  // The corner child (a, ab, ca) must be an input face: the face on halfedge a->ab.
+  auto hasCorner = [&](int a, int ab, int ca) {
+    for (int h : c.fan(a))
+      if (c.to(h) == ab) return c.from(Connectivity::prev(h)) == ca;
+    return false;
+  };
+  Faces coarse(F.rows() / 4, 3);
   Eigen::Index k = 0;
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const int x = F(f, 0), y = F(f, 1), z = F(f, 2);
@@ -199,41 +179,29 @@ bool peel(const Faces& F, int n, Faces& coarse, int& coarseCount, Recovery::Roun
       why = "face " + std::to_string(f) + " does not sit in the middle of a split triangle";
       return false;
     }
-    coarse.row(k++) << a, b, cc;
+    // Splitting (a, b, cc) gives back this centre face and three corner faces; with
+    // one centre per quarter of the faces, that accounts for every input face.
+    if (!hasCorner(a, z, y) || !hasCorner(b, x, z) || !hasCorner(cc, y, x)) {
+      why = "the triangles around face " + std::to_string(f) + " are not a 1-to-4 split";
+      return false;
+    }
+    coarse.row(k++) << round.coarseOf[a], round.coarseOf[b], round.coarseOf[cc];
   }
   if (k != coarse.rows()) {
     why = "found " + std::to_string(k) + " centre triangles for " + std::to_string(F.rows()) +
           " faces (expected a quarter)";
     return false;
   }
-  // Accept only if splitting the coarse faces gives back every input face exactly.
-  std::unordered_set<Face3, Face3Hash> expected;
-  expected.reserve(static_cast<std::size_t>(F.rows()) * 2);
-  auto mid = [&](int a, int b) {
-    auto it = midpointOf.find(pairKey(a, b));
-    return it == midpointOf.end() ? -1 : it->second;
-  };
-  for (Eigen::Index f = 0; f < coarse.rows(); ++f) {
-    const int a = coarse(f, 0), b = coarse(f, 1), cc = coarse(f, 2);
-    const int ab = mid(a, b), bc = mid(b, cc), ca = mid(cc, a);
-    if (ab < 0 || bc < 0 || ca < 0) {
-      why = "the coarse triangle of face " + std::to_string(f) + " has an edge with no midpoint";
-      return false;
-    }
-    for (Face3 t : {Face3{a, ab, ca}, Face3{ab, b, bc}, Face3{ca, bc, cc}, Face3{bc, ca, ab}})
-      expected.insert(t.rotated());
-  }
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    if (!expected.count(Face3{F(f, 0), F(f, 1), F(f, 2)}.rotated())) {
-      why = "face " + std::to_string(f) + " is not a child of the coarse mesh's split";
-      return false;
-    }
-  for (Eigen::Index f = 0; f < coarse.rows(); ++f)
-    for (int i = 0; i < 3; ++i) coarse(f, i) = round.coarseOf[coarse(f, i)];
-  const Connectivity cc(coarse, coarseCount);
-  if (cc.firstNonManifoldEdgeFace >= 0 || cc.firstFlippedFace >= 0 ||
-      cc.firstNonManifoldVertex >= 0 || cc.firstIsolatedVertex >= 0) {
+  coarseConn = Connectivity(coarse, coarseCount);
+  if (coarseConn.firstNonManifoldEdgeFace >= 0 || coarseConn.firstFlippedFace >= 0 ||
+      coarseConn.firstNonManifoldVertex >= 0 || coarseConn.firstIsolatedVertex >= 0) {
     why = "the coarser mesh would not be a manifold";
+    return false;
+  }
+  // One midpoint per coarse edge (so no two vertices split the same edge).
+  if (coarseConn.numEdges() != numNew) {
+    why = std::to_string(numNew) + " midpoints for " + std::to_string(coarseConn.numEdges()) +
+          " edges of the coarser mesh";
     return false;
   }
   return true;
@@ -242,27 +210,31 @@ bool peel(const Faces& F, int n, Faces& coarse, int& coarseCount, Recovery::Roun
 }  // namespace
 
 Recovery recoverSubdivision(const Faces& F, int numVertices, int maxLevels) {
+  return recoverSubdivision(Connectivity(F, numVertices), maxLevels);
+}
+
+Recovery recoverSubdivision(const Connectivity& mesh, int maxLevels) {
   Recovery r;
-  Faces current = F;
-  int n = numVertices;
+  // The finest round reads the caller's connectivity; coarser ones own theirs.
+  Connectivity current;
+  const Connectivity* fine = &mesh;
   while (r.levels < maxLevels) {
-    Faces coarse;
-    int coarseCount = 0;
+    Connectivity coarse;
     Recovery::Round round;
     bool arbitrary = false;
     std::string why;
-    if (!peel(current, n, coarse, coarseCount, round, arbitrary, why)) {
+    if (!peel(*fine, coarse, round, arbitrary, why)) {
       r.stopReason = why;
       break;
     }
     r.arbitraryChoice = r.arbitraryChoice || arbitrary;
     r.rounds.push_back(std::move(round));
     current = std::move(coarse);
-    n = coarseCount;
+    fine = &current;
     ++r.levels;
   }
-  r.baseFaces = std::move(current);
-  r.numBaseVertices = n;
+  r.baseFaces = fine->faces();
+  r.numBaseVertices = fine->numVertices();
   return r;
 }
 
