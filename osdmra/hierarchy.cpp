@@ -5,6 +5,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
+#include <Eigen/Geometry>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -59,6 +60,20 @@ struct CollectorArray {
 };
 struct SourceArray {
   Source operator[](int i) const { return Source{i}; }
+};
+
+// Primvars over rows of a Points matrix, for interpolation and limit evaluation.
+struct PointRef {
+  Points* points;
+  int row;
+  void Clear() { points->row(row).setZero(); }
+  void AddWithWeight(const PointRef& src, double w) {
+    points->row(row) += w * src.points->row(src.row);
+  }
+};
+struct PointArray {
+  Points* points;
+  PointRef operator[](int i) const { return PointRef{points, i}; }
 };
 
 }  // namespace
@@ -210,6 +225,45 @@ int Hierarchy::midpoint(int j, int a, int b) const {
   for (int h : c.fan(b))
     if (c.to(h) == a) return fromHalfedge(h);
   return -1;
+}
+
+void Hierarchy::loopLimit(int level, const Points& c, Points& positions, Points& normals) const {
+  if (level < 0 || level > levels()) throw Error("loopLimit: level out of range");
+  const int n = numVertices(level);
+  if (c.rows() != n)
+    throw Error("loopLimit: expected " + std::to_string(n) + " control points at level " +
+                std::to_string(level));
+  // A refiner over M^level itself, unrefined: its only level has full topology, which
+  // Limit() needs, and the limit masks depend on the local topology alone.
+  const Faces& F = faces(level);
+  std::vector<int> vertsPerFace(F.rows(), 3);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = n;
+  desc.numFaces = static_cast<int>(F.rows());
+  desc.numVertsPerFace = vertsPerFace.data();
+  desc.vertIndicesPerFace = F.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  lastFarError.clear();
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  if (!refiner)
+    throw Error("OpenSubdiv rejected level " + std::to_string(level) + ": " + lastFarError);
+  Points src = c;
+  Points du(n, 3), dv(n, 3);
+  positions.resize(n, 3);
+  PointArray s{&src}, p{&positions}, t1{&du}, t2{&dv};
+  Far::PrimvarRefinerReal<double>(*refiner).Limit(s, p, t1, t2);
+  if (!lastFarError.empty()) throw Error("OpenSubdiv limit evaluation failed: " + lastFarError);
+  normals.resize(n, 3);
+  for (int v = 0; v < n; ++v) {
+    const Eigen::Vector3d a = du.row(v).transpose(), b = dv.row(v).transpose();
+    const Eigen::Vector3d nv = a.cross(b);
+    const double len = nv.norm();
+    normals.row(v) =
+        len > 0 ? Eigen::RowVector3d((nv / len).transpose()) : Eigen::RowVector3d::Zero();
+  }
 }
 
 const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {

@@ -63,6 +63,13 @@ class Hierarchy {
   /// Every row sums to 1.
   const SparseMatrix& refinement(Scheme scheme, int j) const;
 
+  /// Loop limit positions and unit normals, at the vertices of M^level, of the surface
+  /// with control points `c` on M^level (OpenSubdiv's PrimvarRefiner::Limit with the
+  /// same boundary rules). Every vertex of a coarser level is also a vertex of M^J with
+  /// the same index and limit point, so one call serves a level-of-detail mesh mixing
+  /// levels.
+  void loopLimit(int level, const Points& c, Points& positions, Points& normals) const;
+
   /// The base faces of a mesh given in canonical order at level `levels` (see the
   /// file comment). Throws Error when the faces cannot be in that order.
   static Faces baseFacesFromCanonical(const Faces& finest, int levels);

@@ -22,10 +22,10 @@ TEST(Shapes, TopologyAsAdvertised) {
     const char* name;
     int genus, loops;
   };
-  for (Expect e : {Expect{"tetrahedron", 0, 0}, Expect{"octahedron", 0, 0},
-                   Expect{"icosahedron", 0, 0}, Expect{"torus", 1, 0}, Expect{"genus2", 2, 0},
-                   Expect{"genus3", 3, 0}, Expect{"disc", 0, 1}, Expect{"cylinder", 0, 2},
-                   Expect{"valences", 0, 0}}) {
+  for (Expect e :
+       {Expect{"tetrahedron", 0, 0}, Expect{"octahedron", 0, 0}, Expect{"icosahedron", 0, 0},
+        Expect{"torus", 1, 0}, Expect{"genus2", 2, 0}, Expect{"genus3", 3, 0}, Expect{"disc", 0, 1},
+        Expect{"cylinder", 0, 2}, Expect{"valences", 0, 0}}) {
     SCOPED_TRACE(e.name);
     const TriMesh m = shapes::byName(e.name);
     validate(m, e.name);
@@ -66,4 +66,36 @@ TEST(Hierarchy, ChildFacesAndMidpoints) {
   // Canonical order round trip: the finest faces give back the base and the levels.
   EXPECT_EQ(Hierarchy::detectCanonicalLevels(h.faces(2), h.numVertices(2)), 2);
   EXPECT_TRUE(Hierarchy::baseFacesFromCanonical(h.faces(2), 2) == base.F);
+}
+
+// Loop limit evaluation through OpenSubdiv: the limit of a refined control mesh is
+// the same surface, the regular limit mask is (1/2, 1/12 x 6), normals are unit.
+TEST(Hierarchy, LoopLimitPositionsAndNormals) {
+  for (const char* name : {"icosahedron", "disc", "torus"}) {
+    SCOPED_TRACE(name);
+    const TriMesh base = shapes::byName(name);
+    Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
+    const TriMesh s2 = subdivide(base, 2, Scheme::Loop, 0.05, 4);
+    Points p2, n2, p3, n3;
+    h.loopLimit(2, s2.V, p2, n2);
+    const Points c3 = h.refinement(Scheme::Loop, 2) * s2.V;
+    h.loopLimit(3, c3, p3, n3);
+    // Old vertices keep their index and their limit point and normal.
+    EXPECT_LT((p3.topRows(p2.rows()) - p2).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((n3.topRows(n2.rows()) - n2).cwiseAbs().maxCoeff(), 1e-10);
+    for (int v = 0; v < n3.rows(); ++v) EXPECT_NEAR(n3.row(v).norm(), 1.0, 1e-12);
+    const Connectivity& c = h.connectivity(3);
+    for (int v = 0; v < c.numVertices(); ++v) {
+      if (c.isBoundaryVertex(v) || c.valence(v) != 6) continue;
+      Eigen::RowVector3d expected = 0.5 * c3.row(v);
+      for (int w : c.ring(v)) expected += c3.row(w) / 12.0;
+      EXPECT_LT((p3.row(v) - expected).cwiseAbs().maxCoeff(), 1e-12);
+    }
+  }
+  // Outward normals on a closed convex shape.
+  const TriMesh ico = shapes::icosahedron();
+  Hierarchy h(ico.F, 12, 1);
+  Points p, n;
+  h.loopLimit(0, ico.V, p, n);
+  for (int v = 0; v < 12; ++v) EXPECT_GT(n.row(v).dot(p.row(v)), 0.0);
 }
