@@ -62,20 +62,6 @@ struct SourceArray {
   Source operator[](int i) const { return Source{i}; }
 };
 
-// Primvars over rows of a Points matrix, for interpolation and limit evaluation.
-struct PointRef {
-  Points* points;
-  int row;
-  void Clear() { points->row(row).setZero(); }
-  void AddWithWeight(const PointRef& src, double w) {
-    points->row(row) += w * src.points->row(src.row);
-  }
-};
-struct PointArray {
-  Points* points;
-  PointRef operator[](int i) const { return PointRef{points, i}; }
-};
-
 }  // namespace
 
 struct Hierarchy::Impl {
@@ -227,12 +213,9 @@ int Hierarchy::midpoint(int j, int a, int b) const {
   return -1;
 }
 
-void Hierarchy::loopLimit(int level, const Points& c, Points& positions, Points& normals) const {
-  if (level < 0 || level > levels()) throw Error("loopLimit: level out of range");
+Hierarchy::LimitStencils Hierarchy::limitStencils(int level) const {
+  if (level < 0 || level > levels()) throw Error("limitStencils: level out of range");
   const int n = numVertices(level);
-  if (c.rows() != n)
-    throw Error("loopLimit: expected " + std::to_string(n) + " control points at level " +
-                std::to_string(level));
   // A refiner over M^level itself, unrefined: its only level has full topology, which
   // Limit() needs, and the limit masks depend on the local topology alone.
   const Faces& F = faces(level);
@@ -250,20 +233,40 @@ void Hierarchy::loopLimit(int level, const Points& c, Points& positions, Points&
       Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
   if (!refiner)
     throw Error("OpenSubdiv rejected level " + std::to_string(level) + ": " + lastFarError);
-  Points src = c;
-  Points du(n, 3), dv(n, 3);
-  positions.resize(n, 3);
-  PointArray s{&src}, p{&positions}, t1{&du}, t2{&dv};
-  Far::PrimvarRefinerReal<double>(*refiner).Limit(s, p, t1, t2);
+  std::vector<Eigen::Triplet<double>> tp, t1, t2;
+  tp.reserve(static_cast<std::size_t>(n) * 7);
+  t1.reserve(static_cast<std::size_t>(n) * 7);
+  t2.reserve(static_cast<std::size_t>(n) * 7);
+  SourceArray src;
+  CollectorArray dp{&tp}, d1{&t1}, d2{&t2};
+  Far::PrimvarRefinerReal<double>(*refiner).Limit(src, dp, d1, d2);
   if (!lastFarError.empty()) throw Error("OpenSubdiv limit evaluation failed: " + lastFarError);
-  normals.resize(n, 3);
-  for (int v = 0; v < n; ++v) {
-    const Eigen::Vector3d a = du.row(v).transpose(), b = dv.row(v).transpose();
-    const Eigen::Vector3d nv = a.cross(b);
-    const double len = nv.norm();
-    normals.row(v) =
-        len > 0 ? Eigen::RowVector3d((nv / len).transpose()) : Eigen::RowVector3d::Zero();
+  LimitStencils s;
+  for (auto [m, t] : {std::pair{&s.position, &tp}, {&s.tangent1, &t1}, {&s.tangent2, &t2}}) {
+    m->resize(n, n);
+    m->setFromTriplets(t->begin(), t->end());
+    m->makeCompressed();
   }
+  return s;
+}
+
+void Hierarchy::loopLimit(int level, const Points& c, Points& positions, Points& normals) const {
+  if (c.rows() != numVertices(level))
+    throw Error("loopLimit: expected " + std::to_string(numVertices(level)) +
+                " control points at level " + std::to_string(level));
+  const LimitStencils s = limitStencils(level);
+  positions = s.position * c;
+  normals = unitNormals(s.tangent1 * c, s.tangent2 * c);
+}
+
+Points unitNormals(const Points& du, const Points& dv) {
+  Points normals(du.rows(), 3);
+  for (Eigen::Index v = 0; v < du.rows(); ++v) {
+    const Eigen::Vector3d nv = Eigen::Vector3d(du.row(v)).cross(Eigen::Vector3d(dv.row(v)));
+    const double len = nv.norm();
+    normals.row(v) = len > 0 ? Eigen::RowVector3d(nv / len) : Eigen::RowVector3d::Zero();
+  }
+  return normals;
 }
 
 const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {

@@ -70,6 +70,14 @@ class Hierarchy {
   /// levels.
   void loopLimit(int level, const Points& c, Points& positions, Points& normals) const;
 
+  /// The linear maps behind loopLimit: limit position and the two tangents of every
+  /// vertex of M^level as sparse rows over its control points (n x n each). Build once
+  /// to evaluate many surfaces, or only some vertices.
+  struct LimitStencils {
+    SparseMatrix position, tangent1, tangent2;
+  };
+  LimitStencils limitStencils(int level) const;
+
   /// The base faces of a mesh given in canonical order at level `levels` (see the
   /// file comment). Throws Error when the faces cannot be in that order.
   static Faces baseFacesFromCanonical(const Faces& finest, int levels);
@@ -87,5 +95,8 @@ class Hierarchy {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Unit normals du x dv row by row (zero where the tangents are parallel).
+Points unitNormals(const Points& du, const Points& dv);
 
 }  // namespace osdmra
