@@ -13,6 +13,8 @@ packages=(
   libgtest-dev
   libbenchmark-dev # bench/ (OSDMRA_BUILD_BENCH=ON)
   libglfw3-dev
+  libmeshoptimizer-dev # bench/: the simplification peer of level-of-detail extraction
+  gnuplot-nox      # osdmra sweep --plot
 )
 
 missing=()

@@ -178,8 +178,74 @@ TEST_F(Cli, PolyhedralMaskIsThePapersFigure5) {
   EXPECT_EQ(ones, 10) << r.out;
 }
 
-TEST_F(Cli, DemoRunsOnTheBundledMesh) {
-  const Result r = run("demo --json");
+TEST_F(Cli, DemoWritesThePapersLevelsOfDetail) {
+  const Result r = run("demo --json --samples 2000 --points 5 --out " + path("out"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"reconstruction_error\""), std::string::npos) << r.out;
+  for (const char* scheme : {"loop", "linear"})
+    for (int budget : {4054, 12310, 16098}) {
+      const std::string file =
+          path("out/igea-" + std::string(scheme) + "-" + std::to_string(budget) + ".obj");
+      const TriMesh m = readValidMesh(file);
+      EXPECT_LE(m.F.rows(), budget) << file;
+      EXPECT_GT(m.F.rows(), budget * 95 / 100) << file;
+    }
+  const std::string table = slurp(path("out/errors.md"));
+  EXPECT_NE(table.find("| loop | 4054 |"), std::string::npos) << table;
+  EXPECT_TRUE(fs::exists(path("out/sweep-loop.csv")));
+}
+
+TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
+  ASSERT_EQ(run("shape genus2 -o " + path("g.obj")).status, 0);
+  ASSERT_EQ(
+      run("subdivide " + path("g.obj") + " --levels 3 --displace 0.03 -o " + path("g3.ply")).status,
+      0);
+  for (const char* scheme : {"loop", "linear"}) {
+    SCOPED_TRACE(scheme);
+    const Result r = run("lod " + path("g3.ply") + " --scheme " + scheme +
+                         " --budget 1500 --samples 2000 --json -o " + path("lod.obj"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const TriMesh m = readValidMesh(path("lod.obj"));
+    EXPECT_LE(m.F.rows(), 1500);
+    EXPECT_GT(m.F.rows(), 1000);
+    EXPECT_EQ(m.N.rows(), std::string(scheme) == "loop" ? m.V.rows() : 0);
+    for (const char* key : {"\"triangles\"", "\"coefficients_kept\"", "\"l2_error\"",
+                            "\"rms_relative\"", "\"hausdorff_relative\""})
+      EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
+  }
+  // Exactly one of the three ways to truncate.
+  const Result bad = run("lod " + path("g3.ply") + " --budget 100 --keep 0.5 -o " + path("x.obj"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("exactly one"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("x.obj")));
+}
+
+TEST_F(Cli, SweepWritesCsvAndPlot) {
+  ASSERT_EQ(run("shape octahedron -o " + path("o.obj")).status, 0);
+  ASSERT_EQ(
+      run("subdivide " + path("o.obj") + " --levels 3 --displace 0.03 -o " + path("o3.obj")).status,
+      0);
+  const bool gnuplot = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+  const std::string plot = gnuplot ? " --plot " + path("s.png") : "";
+  const Result r =
+      run("sweep " + path("o3.obj") + " --points 6 --samples 1000 --csv " + path("s.csv") + plot);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream csv(slurp(path("s.csv")));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line.rfind("triangles,coefficients_kept", 0), 0u) << line;
+  int rows = 0, previousTriangles = 0;
+  while (std::getline(csv, line)) {
+    const int t = std::stoi(line.substr(0, line.find(',')));
+    EXPECT_GE(t, previousTriangles);
+    previousTriangles = t;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6);
+  EXPECT_EQ(previousTriangles, 8 * 64);  // the last row keeps everything
+  if (gnuplot) {
+    const std::string png = slurp(path("s.png"));
+    ASSERT_GT(png.size(), 1000u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+  }
 }

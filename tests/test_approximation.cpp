@@ -1,0 +1,77 @@
+// Levels of detail from truncated expansions (math.md 5): exact at both ends,
+// monotone in epsilon, within budget, vertices on the truncated surface.
+#include <gtest/gtest.h>
+
+#include "osdmra/approximation.h"
+#include "osdmra/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+struct Fixture {
+  TriMesh base, surface;
+  Hierarchy h;
+  FilterBank bank;
+  Decomposition d;
+  Fixture(const std::string& name, Scheme s, int J)
+      : base(shapes::byName(name)),
+        surface(subdivide(base, J, s, 0.04, 21)),
+        h(base.F, static_cast<int>(base.V.rows()), J),
+        bank(makeFilterBank(h, s, {WaveletKind::Quasi, 1})),
+        d(analyze(bank, surface.V)) {}
+};
+
+}  // namespace
+
+TEST(Approximation, ExactAtBothEndsMonotoneAndWithinBudget) {
+  for (const char* name : {"octahedron", "disc", "genus2"})
+    for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+      SCOPED_TRACE(std::string(name) + " " + schemeName(s));
+      const int J = 3;
+      const Fixture f(name, s, J);
+      const Approximator approx(f.bank, f.d);
+      const TriMesh& full = approx.fullResolution();
+      // Everything kept: the full-resolution surface (polyhedral: the input itself).
+      const Approximation all = approx.keepFraction(1.0);
+      EXPECT_EQ(all.triangles(), f.h.numFaces(J));
+      EXPECT_LT(approx.l2Error(all), 1e-12);
+      for (int i = 0; i < static_cast<int>(all.lod.vertices.size()); ++i)
+        EXPECT_LT((all.mesh.V.row(i) - full.V.row(all.lod.vertices[i])).norm(), 1e-12);
+      if (s == Scheme::Linear) {
+        EXPECT_LT((full.V - f.surface.V).cwiseAbs().maxCoeff(), 1e-12);
+      } else {
+        Points p, n;
+        f.h.loopLimit(J, f.surface.V, p, n);
+        EXPECT_LT((full.V - p).cwiseAbs().maxCoeff(), 1e-12);
+        for (int i = 0; i < all.mesh.N.rows(); ++i)
+          EXPECT_NEAR(all.mesh.N.row(i).norm(), 1.0, 1e-12);
+      }
+      // Nothing kept: the base mesh, on the base surface.
+      const Approximation none = approx.keepCount(0);
+      EXPECT_EQ(none.triangles(), f.base.F.rows());
+      Points basePoints = f.d.base;
+      if (s == Scheme::Loop) {
+        Points n;
+        f.h.loopLimit(0, f.d.base, basePoints, n);
+      }
+      for (int i = 0; i < static_cast<int>(none.lod.vertices.size()); ++i)
+        EXPECT_LT((none.mesh.V.row(i) - basePoints.row(none.lod.vertices[i])).norm(), 1e-12);
+      // Lowering epsilon never lowers the triangle count.
+      int previous = 0;
+      for (double eps : {1.0, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 0.0}) {
+        const int t = approx.keepAbove(eps).triangles();
+        EXPECT_GE(t, previous) << "epsilon " << eps;
+        previous = t;
+      }
+      EXPECT_EQ(previous, f.h.numFaces(J));
+      // Budgets: never above, and adding the next coefficient would exceed it.
+      for (long long budget : {f.h.numFaces(J) / 8, f.h.numFaces(J) / 3, f.h.numFaces(J) / 2}) {
+        const Approximation a = approx.budget(budget);
+        EXPECT_LE(a.triangles(), budget);
+        if (a.kept < a.total) {
+          EXPECT_GT(approx.keepCount(a.kept + 1).triangles(), budget);
+        }
+      }
+    }
+}
