@@ -84,17 +84,33 @@ Approximation Approximator::keepAbove(double epsilon) const {
 }
 
 Approximation Approximator::budget(long long triangles) const {
-  // Largest count whose mesh fits; bisection keeps the number of extractions at
-  // about log2(coefficients), each linear in the touched hierarchy.
+  // Largest count whose mesh fits. The triangle count grows with the kept count
+  // (nested keep sets give nested meshes) and almost linearly, so interpolating
+  // between the bracket's ends finds it in a few extractions; every other step is
+  // a bisection, so the bracket always at least halves in two steps.
+  auto trianglesOf = [&](long long count) {
+    return static_cast<long long>(
+        extractLod(*bank_.hierarchy, maskOfCount(count)).compactFaces.rows());
+  };
   long long lo = 0, hi = numCoefficients();
-  if (extractLod(*bank_.hierarchy, maskOfCount(hi)).compactFaces.rows() <= triangles)
-    return keepCount(hi);
-  while (lo + 1 < hi) {
-    const long long mid = lo + (hi - lo) / 2;
-    if (extractLod(*bank_.hierarchy, maskOfCount(mid)).compactFaces.rows() <= triangles)
+  long long tlo = trianglesOf(lo), thi = trianglesOf(hi);
+  if (thi <= triangles) return keepCount(hi);
+  if (tlo > triangles) return keepCount(0);  // the base mesh is the coarsest there is
+  for (bool interpolate = true; lo + 1 < hi; interpolate = !interpolate) {
+    long long mid = lo + (hi - lo) / 2;
+    if (interpolate && thi > tlo) {
+      const double f = static_cast<double>(triangles - tlo) / static_cast<double>(thi - tlo);
+      mid = lo + static_cast<long long>(f * static_cast<double>(hi - lo));
+    }
+    mid = std::clamp(mid, lo + 1, hi - 1);
+    const long long t = trianglesOf(mid);
+    if (t <= triangles) {
       lo = mid;
-    else
+      tlo = t;
+    } else {
       hi = mid;
+      thi = t;
+    }
   }
   return keepCount(lo);
 }

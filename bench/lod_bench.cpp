@@ -1,0 +1,173 @@
+// Benchmarks of the issues beyond the filter bank, each beside its peer in the same
+// run:
+//   recovery of subdivision connectivity against reading the same mesh from an ASCII
+//   OBJ file (2,097,152 faces, shuffled vertex and face order);
+//   re-extraction of a level of detail from an analysed surface (Approximator::budget)
+//   against meshoptimizer's simplifier (meshopt_simplify) at the same triangle counts,
+//   on a semi-regular input of 524,288 faces: the bundled head refined twice more by
+//   Loop subdivision. The sampled RMS and Hausdorff errors of both against the input
+//   are reported as counters (computed once, outside the timed loop).
+#include <benchmark/benchmark.h>
+#include <meshoptimizer.h>
+
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "osdmra/approximation.h"
+#include "osdmra/distance.h"
+#include "osdmra/io.h"
+#include "osdmra/recovery.h"
+#include "osdmra/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+TriMesh shuffled(const TriMesh& m, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<int> perm(n), order(m.F.rows());
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  std::shuffle(order.begin(), order.end(), rng);
+  TriMesh out{Points(n, 3), Faces(m.F.rows(), 3), Points()};
+  for (int i = 0; i < n; ++i) out.V.row(perm[i]) = m.V.row(i);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) out.F(f, c) = perm[m.F(order[f], (c + f) % 3)];
+  return out;
+}
+
+// The level-9 displaced octahedron, shuffled, written once as ASCII OBJ.
+const std::string& level9File() {
+  static const std::string path = [] {
+    const std::string p =
+        (std::filesystem::temp_directory_path() / "osdmra-bench-oct9-shuffled.obj").string();
+    writeMesh(p, shuffled(subdivide(shapes::octahedron(), 9, Scheme::Loop, 0.02, 3), 5));
+    return p;
+  }();
+  return path;
+}
+
+void bmReadObj(benchmark::State& state) {
+  const std::string& path = level9File();
+  for (auto _ : state) benchmark::DoNotOptimize(readMesh(path));
+  state.counters["faces"] = 2097152;
+}
+
+void bmRecover(benchmark::State& state, bool withConnectivity) {
+  static const TriMesh mesh = readMesh(level9File());
+  static const Connectivity conn(mesh.F, static_cast<int>(mesh.V.rows()));
+  for (auto _ : state) {
+    const Recovery r = withConnectivity
+                           ? recoverSubdivision(mesh.F, static_cast<int>(mesh.V.rows()))
+                           : recoverSubdivision(conn);
+    if (r.levels != 9) state.SkipWithError("recovery did not find 9 levels");
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["faces"] = 2097152;
+}
+
+// The semi-regular input of the level-of-detail comparison, with its analysis.
+struct LodInput {
+  TriMesh mesh;
+  std::unique_ptr<CanonicalSurface> surface;
+  std::unique_ptr<FilterBank> bank;
+  std::unique_ptr<Decomposition> d;
+  std::unique_ptr<Approximator> approx;
+  std::vector<float> positions;  // for meshoptimizer
+  std::vector<unsigned> indices;
+};
+
+const LodInput& lodInput(Scheme scheme) {
+  static std::unique_ptr<LodInput> cache[2];
+  std::unique_ptr<LodInput>& c = cache[scheme == Scheme::Loop ? 0 : 1];
+  if (!c) {
+    c = std::make_unique<LodInput>();
+    const TriMesh head = readValidMesh(std::string(OSDMRA_DATA_DIR) + "/igea-oct6.obj");
+    const Hierarchy h6 = Hierarchy::fromCanonical(head.F, static_cast<int>(head.V.rows()), 6);
+    Hierarchy h8(h6.faces(0), h6.numVertices(0), 8);
+    Points V = head.V;
+    for (int j = 6; j < 8; ++j) V = h8.refinement(Scheme::Loop, j) * V;
+    c->mesh = TriMesh{V, h8.faces(8), Points()};
+    c->surface = std::make_unique<CanonicalSurface>(canonicalSurface(c->mesh, 8));
+    c->bank = std::make_unique<FilterBank>(
+        makeFilterBank(c->surface->hierarchy, scheme, {WaveletKind::Quasi, kDefaultRings}));
+    c->d = std::make_unique<Decomposition>(analyze(*c->bank, c->surface->V));
+    c->approx = std::make_unique<Approximator>(*c->bank, *c->d);
+    for (Eigen::Index i = 0; i < V.rows(); ++i)
+      for (int k = 0; k < 3; ++k) c->positions.push_back(static_cast<float>(V(i, k)));
+    for (Eigen::Index f = 0; f < c->mesh.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) c->indices.push_back(static_cast<unsigned>(c->mesh.F(f, k)));
+  }
+  return *c;
+}
+
+void errorCounters(benchmark::State& state, const TriMesh& approx, const TriMesh& reference) {
+  DistanceOptions o;
+  o.samples = 100000;
+  const SurfaceDistance d = surfaceDistance(approx, reference, o);
+  state.counters["triangles"] = static_cast<double>(approx.F.rows());
+  state.counters["rms_rel"] = d.rmsRelative;
+  state.counters["hausdorff_rel"] = d.hausdorffRelative;
+}
+
+void bmOsdmraLod(benchmark::State& state, Scheme scheme, long long triangles) {
+  const LodInput& in = lodInput(scheme);
+  Approximation a;
+  for (auto _ : state) {
+    a = in.approx->budget(triangles);
+    benchmark::DoNotOptimize(a);
+  }
+  // Against the input itself (polyhedral: the full-resolution surface is the input).
+  errorCounters(state, a.mesh, in.mesh);
+}
+
+void bmMeshopt(benchmark::State& state, long long triangles) {
+  const LodInput& in = lodInput(Scheme::Linear);
+  std::vector<unsigned> out(in.indices.size());
+  std::size_t count = 0;
+  for (auto _ : state) {
+    float error = 0;
+    count = meshopt_simplify(out.data(), in.indices.data(), in.indices.size(), in.positions.data(),
+                             in.positions.size() / 3, 3 * sizeof(float),
+                             static_cast<std::size_t>(3 * triangles), 1.0f, 0, &error);
+    benchmark::DoNotOptimize(out.data());
+  }
+  TriMesh m{in.mesh.V, Faces(static_cast<Eigen::Index>(count / 3), 3), Points()};
+  for (std::size_t i = 0; i < count; ++i) m.F(static_cast<Eigen::Index>(i / 3), i % 3) = out[i];
+  errorCounters(state, m, in.mesh);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::RegisterBenchmark("Recovery/ReadAsciiObj/faces:2097152", bmReadObj)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
+  benchmark::RegisterBenchmark("Recovery/RecoverIncludingAdjacency/faces:2097152", bmRecover, true)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
+  benchmark::RegisterBenchmark("Recovery/RecoverFromAdjacency/faces:2097152", bmRecover, false)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
+  for (long long t : {26214LL, 52428LL, 131072LL}) {
+    benchmark::RegisterBenchmark(("Lod/OsdmraLinear/triangles:" + std::to_string(t)).c_str(),
+                                 bmOsdmraLod, Scheme::Linear, t)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+    benchmark::RegisterBenchmark(("Lod/OsdmraLoop/triangles:" + std::to_string(t)).c_str(),
+                                 bmOsdmraLod, Scheme::Loop, t)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+    benchmark::RegisterBenchmark(("Lod/MeshoptSimplify/triangles:" + std::to_string(t)).c_str(),
+                                 bmMeshopt, t)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
