@@ -15,6 +15,12 @@ packages=(
   libglfw3-dev
   libmeshoptimizer-dev # bench/: the simplification peer of level-of-detail extraction
   gnuplot-nox      # osdmra sweep --plot
+  libgl-dev        # viewer/: OpenGL
+  libimgui-dev     # viewer/: Dear ImGui and its GLFW/OpenGL3 backends (sources)
+  libstb-dev       # viewer/: PNG screenshots (stb_image_write)
+  xvfb             # viewer test: an X server without a screen
+  xauth            # xvfb-run needs it
+  libgl1-mesa-dri  # llvmpipe: OpenGL on the CPU
 )
 
 missing=()

@@ -1,0 +1,53 @@
+#!/bin/sh
+# Headless test of osdmra-viewer (registered with ctest from viewer/CMakeLists.txt).
+#
+#   test_viewer.sh VIEWER IMAGE_CHECK MESH OUTDIR
+#
+# Renders MESH at two budgets and in smooth mode under a virtual X server, then
+# checks the PNGs: both exist, they differ, and the head covers a sensible part of
+# each. Exits 77 (ctest: skipped) when xvfb-run is not installed.
+set -eu
+
+if [ "${1:-}" != "--inside-xvfb" ]; then
+  if ! command -v xvfb-run >/dev/null 2>&1; then
+    echo "SKIP: xvfb-run is not installed (Debian: apt-get install xvfb xauth)"
+    exit 77
+  fi
+  # One X server for every render.
+  exec xvfb-run -a -s "-screen 0 1280x1024x24" sh "$0" --inside-xvfb "$@"
+fi
+shift
+viewer=$1 check=$2 mesh=$3 out=$4
+rm -rf "$out"
+mkdir -p "$out"
+
+step() { echo "+ $*"; "$@"; }
+
+step "$viewer" "$mesh" --budget 500 --screenshot "$out/budget-500.png" --size 800x400
+step "$viewer" "$mesh" --budget 16098 --screenshot "$out/budget-16098.png" --size 800x400
+# Smooth mode: the viewer checks glGetError after drawing and fails on any error.
+step "$viewer" "$mesh" --budget 4054 --smooth --tess 2 --layout lod --screenshot "$out/smooth.png" \
+  --size 400x400
+step "$viewer" "$mesh" --budget 2000 --scheme linear --color level --wireframe --view iso \
+  --screenshot "$out/linear-level.png" --size 800x400
+
+for image in budget-500 budget-16098 smooth linear-level; do
+  step "$check" coverage "$out/$image.png" 0.10 0.90
+done
+# Only the right (level of detail) pane may differ; 500 triangles against 16,098
+# changes a few percent of the pixels.
+step "$check" differ "$out/budget-500.png" "$out/budget-16098.png" 0.01
+
+# Errors: a bad mesh and no display both fail with a message and leave no file.
+if "$viewer" "$out/missing.obj" --screenshot "$out/bad.png" 2>"$out/bad.err"; then
+  echo "FAIL: a missing mesh was accepted"; exit 1
+fi
+grep -q '^osdmra-viewer: ' "$out/bad.err" || { echo "FAIL: no error message"; exit 1; }
+if env -u DISPLAY "$viewer" "$mesh" --screenshot "$out/nodisplay.png" 2>"$out/nodisplay.err"; then
+  echo "FAIL: rendered without a display"; exit 1
+fi
+grep -q '^osdmra-viewer: ' "$out/nodisplay.err" || { echo "FAIL: no error message"; exit 1; }
+for f in bad.png nodisplay.png; do
+  [ ! -e "$out/$f" ] || { echo "FAIL: $f was written"; exit 1; }
+done
+echo "viewer test passed"
