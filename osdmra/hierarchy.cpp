@@ -76,6 +76,30 @@ struct Hierarchy::Impl {
 
 namespace {
 
+// An unrefined Loop refiner over a triangle mesh, with osdmra's boundary rule;
+// OpenSubdiv's complaints become an Error about `what`.
+std::unique_ptr<Far::TopologyRefiner> createLoopRefiner(const Faces& F, int numVertices,
+                                                        const std::string& what) {
+  std::call_once(callbackOnce, [] {
+    Far::SetErrorCallback(farErrorCallback);
+    Far::SetWarningCallback(farWarningCallback);
+  });
+  std::vector<int> vertsPerFace(F.rows(), 3);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = numVertices;
+  desc.numFaces = static_cast<int>(F.rows());
+  desc.numVertsPerFace = vertsPerFace.data();
+  desc.vertIndicesPerFace = F.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  lastFarError.clear();
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  if (!refiner) throw Error("OpenSubdiv rejected " + what + ": " + lastFarError);
+  return refiner;
+}
+
 // P^{j+1} from OpenSubdiv's interpolation with the recording primvar.
 SparseMatrix extractRefinement(const Far::TopologyRefiner& R, Scheme scheme, int j) {
   const int rows = R.GetLevel(j + 1).GetNumVertices(), cols = R.GetLevel(j).GetNumVertices();
@@ -101,27 +125,11 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
   if (levels < 0 || levels > 15)
     throw Error("levels must be in 0..15, got " + std::to_string(levels));
   if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
-  std::call_once(callbackOnce, [] {
-    Far::SetErrorCallback(farErrorCallback);
-    Far::SetWarningCallback(farWarningCallback);
-  });
-
-  std::vector<int> vertsPerFace(baseFaces.rows(), 3);
-  Far::TopologyDescriptor desc;
-  desc.numVertices = numBaseVertices;
-  desc.numFaces = static_cast<int>(baseFaces.rows());
-  desc.numVertsPerFace = vertsPerFace.data();
-  desc.vertIndicesPerFace = baseFaces.data();
-  Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  lastFarError.clear();
   // The refiner lives only as long as the constructor: everything osdmra needs from
   // it (faces, edges, both refinement matrices) is copied out, which costs less
   // memory than OpenSubdiv's full topology of every level.
-  std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
-  if (!refiner) throw Error("OpenSubdiv rejected the base mesh: " + lastFarError);
+  const std::unique_ptr<Far::TopologyRefiner> refiner =
+      createLoopRefiner(baseFaces, numBaseVertices, "the base mesh");
   if (levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(levels);
     // The last level needs its faces only: its edges and adjacency are never read.
@@ -218,21 +226,8 @@ Hierarchy::LimitStencils Hierarchy::limitStencils(int level) const {
   const int n = numVertices(level);
   // A refiner over M^level itself, unrefined: its only level has full topology, which
   // Limit() needs, and the limit masks depend on the local topology alone.
-  const Faces& F = faces(level);
-  std::vector<int> vertsPerFace(F.rows(), 3);
-  Far::TopologyDescriptor desc;
-  desc.numVertices = n;
-  desc.numFaces = static_cast<int>(F.rows());
-  desc.numVertsPerFace = vertsPerFace.data();
-  desc.vertIndicesPerFace = F.data();
-  Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  lastFarError.clear();
-  std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
-  if (!refiner)
-    throw Error("OpenSubdiv rejected level " + std::to_string(level) + ": " + lastFarError);
+  const std::unique_ptr<Far::TopologyRefiner> refiner =
+      createLoopRefiner(faces(level), n, "level " + std::to_string(level));
   std::vector<Eigen::Triplet<double>> tp, t1, t2;
   tp.reserve(static_cast<std::size_t>(n) * 7);
   t1.reserve(static_cast<std::size_t>(n) * 7);
