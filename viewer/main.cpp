@@ -3,6 +3,7 @@
 //
 //   osdmra-viewer [MESH] [options]                 interactive (GLFW + Dear ImGui)
 //   osdmra-viewer [MESH] --screenshot OUT.png ...  headless: render, write, exit
+//   osdmra-viewer [MESH] --bench-slider K ...      headless: time a triangle-slider drag
 //
 // Both modes share the Session (app.h) and the Renderer; the headless mode draws
 // into an off-screen framebuffer of a hidden window, so it needs a display (Xvfb
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,7 +51,12 @@ const char* kUsage =
     "  --tess L            tessellation level of the smooth mode, 1..32 (default 1)\n"
     "  --smooth-level J    control mesh level of the smooth mode (default: finest)\n"
     "  --screenshot OUT    headless: render to the PNG OUT and exit\n"
-    "  --size WxH          headless image size (default 1200x600)\n"
+    "  --size WxH          headless image size (default 1200x600; with --bench-slider\n"
+    "                      the window size, default 1600x900 as the interactive one)\n"
+    "  --bench-slider K    headless: after the analysis, move the triangle slider through\n"
+    "                      K log-spaced values up to all triangles and back, as a drag,\n"
+    "                      and report the frame times (extraction, upload, draw); exit\n"
+    "  --json              with --bench-slider: one JSON object, with every step\n"
     "\n"
     "Interactive: drag to rotate, right-drag to pan, wheel to zoom, P saves a PNG,\n"
     "Esc quits.\n";
@@ -65,6 +72,9 @@ struct Options {
   int smoothLevel = -1;
   std::string screenshot;
   int width = 1200, height = 600;
+  bool sizeGiven = false;
+  int benchSteps = 0;  ///< --bench-slider K; 0: not benchmarking
+  bool json = false;
 };
 
 [[noreturn]] void fail(const std::string& message) {
@@ -158,6 +168,11 @@ Options parse(int argc, char** argv) {
           h > 8192)
         fail("--size needs WxH with 16..8192 pixels each, got '" + s + "'");
       o.width = w, o.height = h;
+      o.sizeGiven = true;
+    } else if (a == "--bench-slider") {
+      o.benchSteps = static_cast<int>(integer(a, value(), 2, 100000));
+    } else if (a == "--json") {
+      o.json = true;
     } else if (a.size() > 1 && a[0] == '-') {
       fail("unknown option " + a + " (see --help)");
     } else if (o.mesh.empty()) {
@@ -166,7 +181,19 @@ Options parse(int argc, char** argv) {
       fail("more than one mesh given ('" + o.mesh + "' and '" + a + "')");
     }
   }
+  if (o.benchSteps && !o.screenshot.empty())
+    fail("--bench-slider and --screenshot cannot be combined");
+  if (o.json && !o.benchSteps) fail("--json needs --bench-slider");
+  if (o.benchSteps && o.selection.kind == viewer::Selection::Epsilon)
+    fail("--bench-slider moves the triangle slider; --epsilon does not apply");
+  if (o.benchSteps && !o.sizeGiven) o.width = 1600, o.height = 900;
   return o;
+}
+
+// The interactive window's panel width (window coordinates); the scene is drawn to
+// its right.
+float panelWidth(float windowWidth) {
+  return std::min(380.0f, windowWidth * 0.4f);
 }
 
 // ---- GL context ---------------------------------------------------------------------
@@ -246,6 +273,181 @@ int headless(const Options& o) {
         o.screenshot.c_str(), lod.approx.triangles(), a->inputTriangles(), lod.approx.kept,
         lod.approx.total, lod.l2Relative,
         draw.smooth ? (", smooth: " + session.smoothStatus()).c_str() : "");
+  }
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return 0;
+}
+
+// ---- Slider benchmark -------------------------------------------------------------------
+//
+// What a frame costs while the triangle slider is dragged: the steps the interactive
+// loop runs after each move (Session::update with `interacting` set, so no L2 error:
+// re-extraction by the Approximator, normals and float arrays, upload of the level
+// of detail; then both panes drawn into the scene rectangle of a WxH window), ended
+// by glFinish so the GPU's (here llvmpipe's) work is inside the time. Not included:
+// the ImGui panel and the buffer swap of the interactive window; the scene goes to
+// an off-screen framebuffer with the window's 4 samples instead of the window.
+
+struct BenchStep {
+  long long budget = 0;
+  int triangles = 0;
+  double extract = 0, upload = 0, draw = 0, frame = 0;  // seconds
+};
+
+// The K positions of ImGui's logarithmic slider from lo to hi, then back (without
+// repeating the top), as a drag to the right end and back would visit them.
+std::vector<long long> sliderPath(long long lo, long long hi, int k) {
+  std::vector<long long> up;
+  for (int i = 0; i < k; ++i) {
+    const double t = static_cast<double>(i) / (k - 1);
+    const long long v = std::llround(
+        std::exp(std::log(static_cast<double>(lo)) +
+                 t * (std::log(static_cast<double>(hi)) - std::log(static_cast<double>(lo)))));
+    up.push_back(std::clamp(v, lo, hi));
+  }
+  std::vector<long long> path = up;
+  for (int i = k - 2; i >= 0; --i) path.push_back(up[static_cast<std::size_t>(i)]);
+  return path;
+}
+
+// `text` as the inside of a JSON string.
+std::string jsonEscaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char u[8];
+      std::snprintf(u, sizeof u, "\\u%04x", static_cast<unsigned>(c));
+      out += u;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// Nearest-rank percentile (p in 0..100) of the values, in milliseconds.
+double percentileMs(std::vector<double> v, double p) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(p / 100 * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1] * 1e3;
+}
+
+int benchSlider(const Options& o) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  GLFWwindow* window = createWindow(64, 64, false);
+  {
+    viewer::Renderer renderer;
+    std::string error;
+    if (!renderer.init(error)) fail(error);
+    std::shared_ptr<const viewer::Analysis> a;
+    try {
+      a = viewer::analyse(o.request);
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+    viewer::Session session(renderer);
+    session.color = o.color;
+    session.errorScale = o.errorPercent / 100;
+    session.smooth = o.draw.smooth;
+    session.smoothLevel = o.smoothLevel;
+    session.adopt(a);
+    session.interacting = true;  // the slider is held for the whole drag
+    session.selection.kind = viewer::Selection::Budget;
+
+    // The interactive window's layout: panel on the left, scene to its right.
+    const int x0 = static_cast<int>(panelWidth(static_cast<float>(o.width)));
+    const int sceneW = o.width - x0;
+    viewer::Camera camera;
+    camera.setView(o.view);
+    viewer::DrawSettings draw = o.draw;
+    draw.color = o.color;
+    draw.levels = a->levels();
+    if (!renderer.bindOffscreen(o.width, o.height, error)) fail(error);
+
+    const std::vector<long long> path =
+        sliderPath(a->d->baseFaces.rows(), a->inputTriangles(), o.benchSteps);
+    std::vector<BenchStep> steps;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      // The first position is where the drag starts: drawn once, not timed (it also
+      // compiles llvmpipe's shader variants and touches the framebuffer).
+      const auto t0 = Clock::now();
+      session.selection.budget = path[i];
+      try {
+        session.update();
+      } catch (const std::exception& e) {
+        fail(e.what());
+      }
+      const auto t1 = Clock::now();
+      draw.smooth = session.smoothReady();
+      renderer.draw(x0, 0, sceneW, o.height, camera, draw);
+      viewer::Renderer::finish();
+      const auto t2 = Clock::now();
+      if (i == 0) continue;
+      BenchStep s;
+      s.budget = path[i];
+      s.triangles = session.lod()->approx.triangles();
+      s.extract = session.lod()->extractSeconds;
+      s.upload = seconds(t0, t1) - s.extract;
+      s.draw = seconds(t1, t2);
+      s.frame = seconds(t0, t2);
+      steps.push_back(s);
+    }
+    const std::string errors = viewer::Renderer::glErrors();
+    if (!errors.empty()) fail("OpenGL reported " + errors + " during the benchmark");
+
+    auto column = [&](double BenchStep::*field) {
+      std::vector<double> v;
+      for (const BenchStep& s : steps) v.push_back(s.*field);
+      return v;
+    };
+    const std::vector<double> frame = column(&BenchStep::frame);
+    const std::string gl = viewer::Renderer::description();
+    const char* scheme = a->bank->scheme == osdmra::Scheme::Loop ? "loop" : "linear";
+    const char* layout = draw.split ? "both panes" : "level of detail only";
+    const double median = percentileMs(frame, 50), p90 = percentileMs(frame, 90),
+                 worst = percentileMs(frame, 100),
+                 extract = percentileMs(column(&BenchStep::extract), 50),
+                 upload = percentileMs(column(&BenchStep::upload), 50),
+                 drawn = percentileMs(column(&BenchStep::draw), 50);
+    if (o.json) {
+      std::printf(
+          "{\"mesh\": \"%s\", \"renderer\": \"%s\", \"scheme\": \"%s\", \"rings\": %d, "
+          "\"input_triangles\": %d, \"window\": [%d, %d], \"scene\": [%d, %d], \"layout\": "
+          "\"%s\", \"analysis_seconds\": %.3f, \"steps\": %zu, \"frame_ms\": {\"median\": %.3f, "
+          "\"p90\": %.3f, \"max\": %.3f}, \"median_ms\": {\"extract\": %.3f, \"upload\": %.3f, "
+          "\"draw\": %.3f},\n \"per_step\": [",
+          jsonEscaped(a->request.path).c_str(), jsonEscaped(gl).c_str(), scheme,
+          a->bank->wavelets.rings, a->inputTriangles(), o.width, o.height, sceneW, o.height, layout,
+          a->seconds, steps.size(), median, p90, worst, extract, upload, drawn);
+      for (std::size_t i = 0; i < steps.size(); ++i) {
+        const BenchStep& s = steps[i];
+        std::printf(
+            "%s\n  {\"budget\": %lld, \"triangles\": %d, \"extract_ms\": %.3f, \"upload_ms\": "
+            "%.3f, \"draw_ms\": %.3f, \"frame_ms\": %.3f}",
+            i ? "," : "", s.budget, s.triangles, s.extract * 1e3, s.upload * 1e3, s.draw * 1e3,
+            s.frame * 1e3);
+      }
+      std::printf("]}\n");
+    } else {
+      std::printf(
+          "%s: %s, rings %d, %d triangles, analysed in %.2f s (not timed below)\n"
+          "renderer: %s\n"
+          "slider: %zu steps from %lld to %d triangles and back; scene %dx%d (%s) of a %dx%d "
+          "window\n"
+          "frame ms: median %.1f, p90 %.1f, max %.1f\n"
+          "median ms: extraction %.1f, normals+upload %.1f, draw+glFinish %.1f\n",
+          a->request.path.c_str(), scheme, a->bank->wavelets.rings, a->inputTriangles(), a->seconds,
+          gl.c_str(), steps.size(), path.front(), a->inputTriangles(), sceneW, o.height, layout,
+          o.width, o.height, median, p90, worst, extract, upload, drawn);
+    }
   }
   glfwDestroyWindow(window);
   glfwTerminate();
@@ -525,7 +727,7 @@ int interactive(const Options& o) {
       int fbw = 0, fbh = 0, ww = 0, wh = 0;
       glfwGetFramebufferSize(window, &fbw, &fbh);
       glfwGetWindowSize(window, &ww, &wh);
-      const float panelW = std::min(380.0f, ww * 0.4f);
+      const float panelW = panelWidth(static_cast<float>(ww));
       panel(ui, session, worker, distance, panelW, static_cast<float>(wh));
       cameraInput(ui, panelW, ww - panelW, static_cast<float>(wh));
       if (!ImGui::GetIO().WantCaptureKeyboard) {
@@ -593,5 +795,6 @@ int main(int argc, char** argv) {
     }
   }
   o.request.path = o.mesh;
+  if (o.benchSteps) return benchSlider(o);
   return o.screenshot.empty() ? interactive(o) : headless(o);
 }

@@ -506,8 +506,7 @@ void Renderer::draw(int x, int y, int w, int h, const Camera& camera, const Draw
   glUseProgram(0);
 }
 
-bool Renderer::renderImage(int w, int h, const Camera& camera, const DrawSettings& s,
-                           std::vector<unsigned char>& rgb, std::string& error) {
+bool Renderer::bindOffscreen(int w, int h, std::string& error) {
   Impl& m = *impl_;
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxSize);
@@ -550,6 +549,25 @@ bool Renderer::renderImage(int w, int h, const Camera& camera, const DrawSetting
     m.fboW = w, m.fboH = h;
   }
   glBindFramebuffer(GL_FRAMEBUFFER, m.msFbo);
+  return true;
+}
+
+void Renderer::finish() {
+  glFinish();
+}
+
+std::string Renderer::description() {
+  auto text = [](GLenum name) {
+    const auto* s = reinterpret_cast<const char*>(glGetString(name));
+    return std::string(s ? s : "?");
+  };
+  return text(GL_RENDERER) + ", " + text(GL_VERSION);
+}
+
+bool Renderer::renderImage(int w, int h, const Camera& camera, const DrawSettings& s,
+                           std::vector<unsigned char>& rgb, std::string& error) {
+  Impl& m = *impl_;
+  if (!bindOffscreen(w, h, error)) return false;
   draw(0, 0, w, h, camera, s);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, m.msFbo);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.resolveFbo);

@@ -78,6 +78,15 @@ class Renderer {
   /// Draws into the bound framebuffer, in the window rectangle (x, y, w, h).
   void draw(int x, int y, int w, int h, const Camera& camera, const DrawSettings& s);
 
+  /// Binds an off-screen multisampled framebuffer of w x h pixels (made, or remade
+  /// when the size changes) for draw(). False (and why) when it cannot be made.
+  bool bindOffscreen(int w, int h, std::string& error);
+  /// Waits until GL has finished every command issued (glFinish).
+  static void finish();
+  /// GL_RENDERER and GL_VERSION of the current context, e.g. "llvmpipe (...), 4.5 (Core
+  /// Profile) Mesa 22.3.6".
+  static std::string description();
+
   /// Draws into an off-screen multisampled framebuffer of w x h pixels and reads it
   /// back as RGB rows, top row first. Restores the default framebuffer. False (and
   /// why) when the framebuffer cannot be made or GL reported an error.

@@ -31,6 +31,11 @@ step "$viewer" "$mesh" --budget 4054 --smooth --tess 2 --layout lod --screenshot
 step "$viewer" "$mesh" --budget 2000 --scheme linear --color level --wireframe --view iso \
   --screenshot "$out/linear-level.png" --size 800x400
 
+# The slider benchmark: runs, reports JSON with a frame time per step (2K-2 steps).
+step "$viewer" "$mesh" --bench-slider 3 --size 400x200 --json >"$out/bench.json"
+grep -q '"steps": 4,' "$out/bench.json" || { echo "FAIL: bench-slider output"; exit 1; }
+grep -q '"frame_ms": {"median": ' "$out/bench.json" || { echo "FAIL: no frame times"; exit 1; }
+
 for image in budget-500 budget-16098 smooth linear-level; do
   step "$check" coverage "$out/$image.png" 0.10 0.90
 done
