@@ -57,6 +57,8 @@ const char* kUsage =
     "                      K log-spaced values up to all triangles and back, as a drag,\n"
     "                      and report the frame times (extraction, upload, draw); exit\n"
     "  --json              with --bench-slider: one JSON object, with every step\n"
+    "  --no-pane-cache     redraw the original's pane every frame instead of keeping it\n"
+    "                      as an image while the camera and display options are unchanged\n"
     "\n"
     "Interactive: drag to rotate, right-drag to pan, wheel to zoom, P saves a PNG,\n"
     "Esc quits.\n";
@@ -173,6 +175,8 @@ Options parse(int argc, char** argv) {
       o.benchSteps = static_cast<int>(integer(a, value(), 2, 100000));
     } else if (a == "--json") {
       o.json = true;
+    } else if (a == "--no-pane-cache") {
+      o.draw.cacheReference = false;
     } else if (a.size() > 1 && a[0] == '-') {
       fail("unknown option " + a + " (see --help)");
     } else if (o.mesh.empty()) {
@@ -284,7 +288,9 @@ int headless(const Options& o) {
 // What a frame costs while the triangle slider is dragged: the steps the interactive
 // loop runs after each move (Session::update with `interacting` set, so no L2 error:
 // re-extraction by the Approximator, normals and float arrays, upload of the level
-// of detail; then both panes drawn into the scene rectangle of a WxH window), ended
+// of detail; then both panes drawn into the scene rectangle of a WxH window by the
+// same Renderer::draw call as the interactive loop's, so the original's pane comes
+// from its cached image, the camera being still, unless --no-pane-cache), ended
 // by glFinish so the GPU's (here llvmpipe's) work is inside the time. Not included:
 // the ImGui panel and the buffer swap of the interactive window; the scene goes to
 // an off-screen framebuffer with the window's 4 samples instead of the window.
@@ -375,6 +381,7 @@ int benchSlider(const Options& o) {
     const std::vector<long long> path =
         sliderPath(a->d->baseFaces.rows(), a->inputTriangles(), o.benchSteps);
     std::vector<BenchStep> steps;
+    long long drawnBefore = 0, cachedBefore = 0;
     for (std::size_t i = 0; i < path.size(); ++i) {
       // The first position is where the drag starts: drawn once, not timed (it also
       // compiles llvmpipe's shader variants and touches the framebuffer).
@@ -390,7 +397,11 @@ int benchSlider(const Options& o) {
       renderer.draw(x0, 0, sceneW, o.height, camera, draw);
       viewer::Renderer::finish();
       const auto t2 = Clock::now();
-      if (i == 0) continue;
+      if (i == 0) {
+        drawnBefore = renderer.referenceRedraws();
+        cachedBefore = renderer.referenceCacheHits();
+        continue;
+      }
       BenchStep s;
       s.budget = path[i];
       s.triangles = session.lod()->approx.triangles();
@@ -402,6 +413,8 @@ int benchSlider(const Options& o) {
     }
     const std::string errors = viewer::Renderer::glErrors();
     if (!errors.empty()) fail("OpenGL reported " + errors + " during the benchmark");
+    const long long referenceDrawn = renderer.referenceRedraws() - drawnBefore,
+                    referenceCached = renderer.referenceCacheHits() - cachedBefore;
 
     auto column = [&](double BenchStep::*field) {
       std::vector<double> v;
@@ -423,10 +436,12 @@ int benchSlider(const Options& o) {
           "\"input_triangles\": %d, \"window\": [%d, %d], \"scene\": [%d, %d], \"layout\": "
           "\"%s\", \"analysis_seconds\": %.3f, \"steps\": %zu, \"frame_ms\": {\"median\": %.3f, "
           "\"p90\": %.3f, \"max\": %.3f}, \"median_ms\": {\"extract\": %.3f, \"upload\": %.3f, "
-          "\"draw\": %.3f},\n \"per_step\": [",
+          "\"draw\": %.3f}, \"pane_cache\": %s, \"reference_drawn\": %lld, "
+          "\"reference_from_cache\": %lld,\n \"per_step\": [",
           jsonEscaped(a->request.path).c_str(), jsonEscaped(gl).c_str(), scheme,
           a->bank->wavelets.rings, a->inputTriangles(), o.width, o.height, sceneW, o.height, layout,
-          a->seconds, steps.size(), median, p90, worst, extract, upload, drawn);
+          a->seconds, steps.size(), median, p90, worst, extract, upload, drawn,
+          draw.cacheReference ? "true" : "false", referenceDrawn, referenceCached);
       for (std::size_t i = 0; i < steps.size(); ++i) {
         const BenchStep& s = steps[i];
         std::printf(
@@ -443,10 +458,12 @@ int benchSlider(const Options& o) {
           "slider: %zu steps from %lld to %d triangles and back; scene %dx%d (%s) of a %dx%d "
           "window\n"
           "frame ms: median %.1f, p90 %.1f, max %.1f\n"
-          "median ms: extraction %.1f, normals+upload %.1f, draw+glFinish %.1f\n",
+          "median ms: extraction %.1f, normals+upload %.1f, draw+glFinish %.1f\n"
+          "original's pane (timed steps): drawn %lld times, from its cached image %lld times%s\n",
           a->request.path.c_str(), scheme, a->bank->wavelets.rings, a->inputTriangles(), a->seconds,
           gl.c_str(), steps.size(), path.front(), a->inputTriangles(), sceneW, o.height, layout,
-          o.width, o.height, median, p90, worst, extract, upload, drawn);
+          o.width, o.height, median, p90, worst, extract, upload, drawn, referenceDrawn,
+          referenceCached, draw.cacheReference ? "" : " (--no-pane-cache)");
     }
   }
   glfwDestroyWindow(window);

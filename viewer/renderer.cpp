@@ -144,6 +144,21 @@ void main() {
 }
 )";
 
+// The cached image of the reference pane, copied pixel for pixel into the pane's
+// viewport by one triangle that covers it.
+const char* kImageVertex = R"(
+void main() {
+  const vec2 corner[3] = vec2[3](vec2(-1.0, -1.0), vec2(3.0, -1.0), vec2(-1.0, 3.0));
+  gl_Position = vec4(corner[gl_VertexID], 0.0, 1.0);
+}
+)";
+
+const char* kImageFragment = R"(
+uniform sampler2D uImage;
+out vec4 fragColor;
+void main() { fragColor = texelFetch(uImage, ivec2(gl_FragCoord.xy), 0); }
+)";
+
 GLuint compile(GLenum stage, const std::string& source, const char* what, std::string& error) {
   const GLuint s = glCreateShader(stage);
   const char* text = source.c_str();
@@ -273,6 +288,29 @@ struct Renderer::Impl {
   bool patchShadersFailed = false;
   std::string patchShaderError;
 
+  // The reference pane's cached image: rendered into cacheMsFbo (the target's
+  // samples) and resolved into cacheTexture (cacheFbo), or, when the target is not
+  // multisampled, rendered into cacheFbo directly. Remade when the size or the
+  // sample count changes; redrawn when the key changes.
+  GLuint imageProgram = 0, emptyVao = 0;
+  GLuint cacheMsFbo = 0, cacheMsColor = 0, cacheDepth = 0, cacheFbo = 0, cacheTexture = 0;
+  int cacheW = 0, cacheH = 0, cacheSamples = -1;
+  struct CacheKey {
+    Eigen::Matrix4f mv = Eigen::Matrix4f::Zero(), proj = Eigen::Matrix4f::Zero();
+    bool wireframe = false;
+    ColorMode color = ColorMode::Plain;
+    int levels = 0, x = 0, y = 0;
+    std::uint64_t mesh = 0;
+    bool operator==(const CacheKey& o) const {
+      return mv == o.mv && proj == o.proj && wireframe == o.wireframe && color == o.color &&
+             levels == o.levels && x == o.x && y == o.y && mesh == o.mesh;
+    }
+  };
+  CacheKey cacheKey;
+  bool cacheValid = false;
+  std::uint64_t referenceGeneration = 1;  ///< bumped by setMesh(Reference), setBounds
+  long long referenceRedraws = 0, referenceCacheHits = 0;
+
   // Off-screen targets, remade when the size changes.
   GLuint msFbo = 0, msColor = 0, msDepth = 0, resolveFbo = 0, resolveColor = 0;
   int fboW = 0, fboH = 0;
@@ -283,6 +321,117 @@ struct Renderer::Impl {
     if (patchVao) glDeleteVertexArrays(1, &patchVao);
     if (patchPoints) glDeleteBuffers(1, &patchPoints);
     deleteTargets();
+    deleteCache();
+    if (imageProgram) glDeleteProgram(imageProgram);
+    if (emptyVao) glDeleteVertexArrays(1, &emptyVao);
+  }
+
+  void deleteCache() {
+    const GLuint fbos[2] = {cacheMsFbo, cacheFbo};
+    const GLuint rbs[2] = {cacheMsColor, cacheDepth};
+    glDeleteFramebuffers(2, fbos);
+    glDeleteRenderbuffers(2, rbs);
+    glDeleteTextures(1, &cacheTexture);
+    cacheMsFbo = cacheMsColor = cacheDepth = cacheFbo = cacheTexture = 0;
+    cacheW = cacheH = 0, cacheSamples = -1;
+    cacheValid = false;
+  }
+
+  // (Re)makes the cache's targets for w x h pixels with `samples` samples (0: none);
+  // false when the framebuffers are incomplete. Leaves framebuffer bindings changed.
+  bool cacheTargets(int w, int h, int samples) {
+    if (cacheFbo && cacheW == w && cacheH == h && cacheSamples == samples) return true;
+    deleteCache();
+    glGenTextures(1, &cacheTexture);
+    glBindTexture(GL_TEXTURE_2D, cacheTexture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenRenderbuffers(1, &cacheDepth);
+    glBindRenderbuffer(GL_RENDERBUFFER, cacheDepth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH_COMPONENT24, w, h);
+    glGenFramebuffers(1, &cacheFbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, cacheFbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, cacheTexture, 0);
+    if (samples == 0)
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cacheDepth);
+    bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    if (samples > 0) {
+      glGenRenderbuffers(1, &cacheMsColor);
+      glBindRenderbuffer(GL_RENDERBUFFER, cacheMsColor);
+      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, w, h);
+      glGenFramebuffers(1, &cacheMsFbo);
+      glBindFramebuffer(GL_FRAMEBUFFER, cacheMsFbo);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                cacheMsColor);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, cacheDepth);
+      ok = ok && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    }
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    if (!ok) {
+      deleteCache();
+      return false;
+    }
+    cacheW = w, cacheH = h, cacheSamples = samples;
+    return true;
+  }
+
+  // The reference pane at (x, y, w, h) of the bound framebuffer from its cached
+  // image, redrawn first when the key changed. The mesh is rendered exactly as the
+  // uncached path would (same viewport, projection, clear colour and sample count;
+  // the cache spans (0, 0)..(x + w, y + h) so that the viewport is the same one, as
+  // rasterisation is not exactly invariant under moving it) and resolved, so the
+  // final resolve of the target gives the same pixels.
+  // False, with nothing drawn, when the cache's framebuffers cannot be made.
+  bool drawReferenceCached(int x, int y, int w, int h, const Eigen::Matrix4f& mv,
+                           const Eigen::Matrix4f& proj, const DrawSettings& s) {
+    if (!imageProgram) return false;
+    GLint drawFbo = 0, readFbo = 0, samples = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFbo);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFbo);
+    glGetIntegerv(GL_SAMPLES, &samples);
+    CacheKey key;
+    key.mv = mv, key.proj = proj, key.wireframe = s.wireframe, key.color = s.color;
+    key.levels = s.levels, key.x = x, key.y = y, key.mesh = referenceGeneration;
+    const int cw = x + w, ch = y + h;
+    const bool sameTargets = cacheFbo && cacheW == cw && cacheH == ch && cacheSamples == samples;
+    if (!(cacheValid && sameTargets && key == cacheKey)) {
+      const bool made = cacheTargets(cw, ch, samples);
+      if (made) {
+        glBindFramebuffer(GL_FRAMEBUFFER, samples > 0 ? cacheMsFbo : cacheFbo);
+        glClearColor(0.16f, 0.17f, 0.19f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glViewport(x, y, w, h);
+        drawMesh(meshes[0], mv, proj, s);
+        ++referenceRedraws;
+        if (samples > 0) {
+          glBindFramebuffer(GL_READ_FRAMEBUFFER, cacheMsFbo);
+          glBindFramebuffer(GL_DRAW_FRAMEBUFFER, cacheFbo);
+          glBlitFramebuffer(x, y, cw, ch, x, y, cw, ch, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        }
+        cacheKey = key;
+        cacheValid = true;
+      }
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFbo));
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(drawFbo));
+      if (!made) return false;
+    } else {
+      ++referenceCacheHits;
+    }
+    glViewport(x, y, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(imageProgram);
+    glUniform1i(glGetUniformLocation(imageProgram, "uImage"), 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, cacheTexture);
+    glBindVertexArray(emptyVao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glEnable(GL_DEPTH_TEST);
+    return true;
   }
 
   void deleteTargets() {
@@ -401,16 +550,24 @@ bool Renderer::init(std::string& error) {
   impl_->meshProgram = link({{GL_VERTEX_SHADER, head + kLighting + kMeshVertex},
                              {GL_FRAGMENT_SHADER, head + kColors + kMeshFragment}},
                             "mesh", error);
-  return impl_->meshProgram != 0;
+  if (!impl_->meshProgram) return false;
+  impl_->imageProgram =
+      link({{GL_VERTEX_SHADER, head + kImageVertex}, {GL_FRAGMENT_SHADER, head + kImageFragment}},
+           "pane image", error);
+  if (!impl_->imageProgram) return false;
+  glGenVertexArrays(1, &impl_->emptyVao);
+  return true;
 }
 
 void Renderer::setBounds(const Eigen::Vector3f& center, float radius) {
   impl_->center = center;
   impl_->radius = radius > 0 ? radius : 1.0f;
+  ++impl_->referenceGeneration;
 }
 
 void Renderer::setMesh(Pane pane, const DrawMesh& mesh) {
   impl_->meshes[static_cast<int>(pane)].upload(mesh);
+  if (pane == Pane::Reference) ++impl_->referenceGeneration;
 }
 
 bool Renderer::setPatches(const Far::PatchTable& table, const std::vector<float>& points,
@@ -470,6 +627,12 @@ bool Renderer::hasPatches() const {
 int Renderer::patchCount() const {
   return impl_->patchTable ? impl_->patches : 0;
 }
+long long Renderer::referenceRedraws() const {
+  return impl_->referenceRedraws;
+}
+long long Renderer::referenceCacheHits() const {
+  return impl_->referenceCacheHits;
+}
 
 void Renderer::draw(int x, int y, int w, int h, const Camera& camera, const DrawSettings& s) {
   Impl& m = *impl_;
@@ -485,9 +648,10 @@ void Renderer::draw(int x, int y, int w, int h, const Camera& camera, const Draw
   const Eigen::Matrix4f mv = m.modelView(camera);
   const int paneW = s.split ? w / 2 : w;
   const Eigen::Matrix4f proj = camera.projection(static_cast<float>(paneW) / std::max(h, 1));
-  if (s.split) {
+  if (s.split && !(s.cacheReference && m.drawReferenceCached(x, y, paneW, h, mv, proj, s))) {
     glViewport(x, y, paneW, h);
     m.drawMesh(m.meshes[0], mv, proj, s);
+    ++m.referenceRedraws;
   }
   glViewport(x + (s.split ? paneW : 0), y, paneW, h);
   if (s.smooth && m.patchTable)

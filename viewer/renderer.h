@@ -46,6 +46,11 @@ struct DrawSettings {
   /// twice this many segments per edge, patches from adaptive refinement fewer. 1
   /// keeps llvmpipe near interactive on the 32k patches of a level-6 control mesh.
   float tessLevel = 1.0f;
+  /// Split view: keep the reference pane as an image (an off-screen colour texture,
+  /// rendered with the target's multisampling and resolved) and draw that while the
+  /// camera, pane size, display options and reference mesh are unchanged, instead of
+  /// redrawing the full-resolution mesh every frame. False always redraws the mesh.
+  bool cacheReference = true;
 };
 
 enum class Pane { Reference, Lod };
@@ -74,8 +79,14 @@ class Renderer {
   bool hasPatches() const;
   /// Patches drawn in the last frame (0 when none).
   int patchCount() const;
+  /// How many times draw() has drawn the reference mesh (into its cache or directly)
+  /// and how many times it drew the reference pane from the cache instead.
+  long long referenceRedraws() const;
+  long long referenceCacheHits() const;
 
   /// Draws into the bound framebuffer, in the window rectangle (x, y, w, h).
+  /// With s.split and s.cacheReference the reference pane comes from its cached
+  /// image when nothing it depends on changed (see referenceRedraws()).
   void draw(int x, int y, int w, int h, const Camera& camera, const DrawSettings& s);
 
   /// Binds an off-screen multisampled framebuffer of w x h pixels (made, or remade
