@@ -18,6 +18,7 @@
 #include "args.h"
 #include "json.h"
 #include "osdmra/approximation.h"
+#include "osdmra/bundled_data.h"
 #include "osdmra/distance.h"
 #include "osdmra/error.h"
 #include "osdmra/filter_bank.h"
@@ -27,13 +28,6 @@
 #include "osdmra/recovery.h"
 #include "osdmra/shapes.h"
 #include "osdmra/truncation.h"
-
-#ifndef OSDMRA_DATA_DIR
-#define OSDMRA_DATA_DIR ""
-#endif
-#ifndef OSDMRA_INSTALL_DATA_DIR
-#define OSDMRA_INSTALL_DATA_DIR ""
-#endif
 
 namespace osdmra::cli {
 namespace {
@@ -801,21 +795,6 @@ int cmdShape(const std::vector<std::string>& argv) {
   return 0;
 }
 
-std::string defaultMesh() {
-  std::vector<std::string> dirs;
-  if (const char* env = std::getenv("OSDMRA_DATA")) dirs.push_back(env);
-  dirs.push_back(OSDMRA_DATA_DIR);
-  dirs.push_back(OSDMRA_INSTALL_DATA_DIR);
-  for (const std::string& d : dirs) {
-    if (d.empty()) continue;
-    const std::filesystem::path p = std::filesystem::path(d) / "igea-oct6.obj";
-    if (std::filesystem::exists(p)) return p.string();
-  }
-  throw Error(
-      "demo: cannot find the bundled mesh igea-oct6.obj (set OSDMRA_DATA to the data/ "
-      "directory of the osdmra sources)");
-}
-
 // The paper's section 4 on the bundled head: analyse and rebuild it with both
 // schemes, extract the levels of detail of the paper's Figure 8 (4,054, 12,310 and
 // 16,098 triangles), measure their errors, sweep the whole range, and write it all
@@ -824,7 +803,7 @@ int cmdDemo(const std::vector<std::string>& argv) {
   Args args("demo", argv, {"rings", "out", "samples", "seed", "points"}, flags());
   args.expectPositional(0, "no positional arguments");
   const Common opt = common(args);
-  const std::string in = defaultMesh();
+  const std::string in = bundledDataPath();
   const std::filesystem::path outDir = args.get("out", "out");
   std::filesystem::create_directories(outDir);
   const TriMesh mesh = readValidMesh(in);

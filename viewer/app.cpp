@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "osdmra/bundled_data.h"
 #include "osdmra/error.h"
 #include "osdmra/filter_bank.h"
 #include "osdmra/io.h"
@@ -351,18 +352,7 @@ std::optional<std::pair<long long, osdmra::SurfaceDistance>> DistanceWorker::res
 // ---- Data ------------------------------------------------------------------------
 
 std::string defaultMesh() {
-  std::vector<std::string> dirs;
-  if (const char* env = std::getenv("OSDMRA_DATA")) dirs.push_back(env);
-  dirs.push_back(OSDMRA_DATA_DIR);
-  dirs.push_back(OSDMRA_INSTALL_DATA_DIR);
-  for (const std::string& d : dirs) {
-    if (d.empty()) continue;
-    const std::filesystem::path p = std::filesystem::path(d) / "igea-oct6.obj";
-    if (std::filesystem::exists(p)) return p.string();
-  }
-  throw osdmra::Error(
-      "cannot find the bundled mesh igea-oct6.obj (set OSDMRA_DATA to the data/ directory of "
-      "the osdmra sources, or name a mesh)");
+  return osdmra::bundledDataPath();
 }
 
 }  // namespace viewer
