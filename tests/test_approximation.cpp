@@ -25,9 +25,9 @@ struct Fixture {
 }  // namespace
 
 TEST(Approximation, ExactAtBothEndsMonotoneAndWithinBudget) {
-  for (const char* name : {"octahedron", "disc", "genus2"})
+  for (const auto& [name, shape] : shapes::all())
     for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
-      SCOPED_TRACE(std::string(name) + " " + schemeName(s));
+      SCOPED_TRACE(name + " " + schemeName(s));
       const int J = 3;
       const Fixture f(name, s, J);
       const Approximator approx(f.bank, f.d);

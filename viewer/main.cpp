@@ -233,25 +233,35 @@ GLFWwindow* createWindow(int w, int h, bool visible) {
 
 // ---- Headless -------------------------------------------------------------------------
 
+// What both headless modes do first: a GL renderer, the analysis (on this thread),
+// and a session with the options' display settings.
+std::shared_ptr<const viewer::Analysis> prepareHeadless(const Options& o,
+                                                        viewer::Renderer& renderer,
+                                                        viewer::Session& session) {
+  std::string error;
+  if (!renderer.init(error)) fail(error);
+  std::shared_ptr<const viewer::Analysis> a;
+  try {
+    a = viewer::analyse(o.request);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+  session.color = o.color;
+  session.errorScale = o.errorPercent / 100;
+  session.smooth = o.draw.smooth;
+  session.smoothLevel = o.smoothLevel;
+  session.adopt(a);
+  return a;
+}
+
 int headless(const Options& o) {
   GLFWwindow* window = createWindow(64, 64, false);
   {
     viewer::Renderer renderer;
-    std::string error;
-    if (!renderer.init(error)) fail(error);
-    std::shared_ptr<const viewer::Analysis> a;
-    try {
-      a = viewer::analyse(o.request);
-    } catch (const std::exception& e) {
-      fail(e.what());
-    }
     viewer::Session session(renderer);
+    const auto a = prepareHeadless(o, renderer, session);
+    std::string error;
     session.selection = o.selection;
-    session.color = o.color;
-    session.errorScale = o.errorPercent / 100;
-    session.smooth = o.draw.smooth;
-    session.smoothLevel = o.smoothLevel;
-    session.adopt(a);
     try {
       session.update();
     } catch (const std::exception& e) {
@@ -351,20 +361,9 @@ int benchSlider(const Options& o) {
   GLFWwindow* window = createWindow(64, 64, false);
   {
     viewer::Renderer renderer;
-    std::string error;
-    if (!renderer.init(error)) fail(error);
-    std::shared_ptr<const viewer::Analysis> a;
-    try {
-      a = viewer::analyse(o.request);
-    } catch (const std::exception& e) {
-      fail(e.what());
-    }
     viewer::Session session(renderer);
-    session.color = o.color;
-    session.errorScale = o.errorPercent / 100;
-    session.smooth = o.draw.smooth;
-    session.smoothLevel = o.smoothLevel;
-    session.adopt(a);
+    const auto a = prepareHeadless(o, renderer, session);
+    std::string error;
     session.interacting = true;  // the slider is held for the whole drag
     session.selection.kind = viewer::Selection::Budget;
 
