@@ -16,6 +16,7 @@
 #include <random>
 
 #include "osdmra/approximation.h"
+#include "osdmra/bundled_data.h"
 #include "osdmra/distance.h"
 #include "osdmra/io.h"
 #include "osdmra/recovery.h"
@@ -87,7 +88,7 @@ const LodInput& lodInput(Scheme scheme, int levels = 8) {
   std::unique_ptr<LodInput>& c = cache[scheme == Scheme::Loop ? 0 : 1][levels];
   if (!c) {
     c = std::make_unique<LodInput>();
-    const TriMesh head = readValidMesh(std::string(OSDMRA_DATA_DIR) + "/igea-oct6.obj");
+    const TriMesh head = readValidMesh(bundledDataPath());
     const Hierarchy h6 = Hierarchy::fromCanonical(head.F, static_cast<int>(head.V.rows()), 6);
     Hierarchy h(h6.faces(0), h6.numVertices(0), levels);
     Points V = head.V;

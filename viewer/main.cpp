@@ -121,13 +121,11 @@ Options parse(int argc, char** argv) {
       o.selection.kind = viewer::Selection::Epsilon;
       o.selection.epsilon = real(a, value());
     } else if (a == "--scheme") {
-      const std::string s = value();
-      if (s == "loop")
-        o.request.scheme = osdmra::Scheme::Loop;
-      else if (s == "linear" || s == "polyhedral")
-        o.request.scheme = osdmra::Scheme::Linear;
-      else
-        fail("--scheme must be loop or linear, got '" + s + "'");
+      try {
+        o.request.scheme = osdmra::parseScheme(value());
+      } catch (const osdmra::Error& e) {
+        fail(std::string("--scheme: ") + e.what());
+      }
     } else if (a == "--rings") {
       o.request.rings = static_cast<int>(integer(a, value(), 0, 4));
     } else if (a == "--view") {
@@ -422,7 +420,7 @@ int benchSlider(const Options& o) {
     };
     const std::vector<double> frame = column(&BenchStep::frame);
     const std::string gl = viewer::Renderer::description();
-    const char* scheme = a->bank->scheme == osdmra::Scheme::Loop ? "loop" : "linear";
+    const char* scheme = osdmra::schemeName(a->bank->scheme);
     const char* layout = draw.split ? "both panes" : "level of detail only";
     const double median = percentileMs(frame, 50), p90 = percentileMs(frame, 90),
                  worst = percentileMs(frame, 100),
