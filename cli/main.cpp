@@ -157,7 +157,7 @@ int cmdInfo(const std::vector<std::string>& argv) {
   const Connectivity c(mesh.F, static_cast<int>(mesh.V.rows()));
   Json j = topologyJson(mesh, c);
   const auto t0 = Clock::now();
-  const Recovery r = recoverSubdivision(c);
+  const Recovery r = recoverSubdivision(mesh.F, static_cast<int>(mesh.V.rows()));
   const double tRecover = seconds(t0);
   const std::string structure = describe(r);
   j.add("levels", r.levels).add("structure", structure);

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "osdmra/mesh.h"
@@ -34,6 +35,39 @@ struct IndexSpan {
   const int* end() const { return last; }
   int size() const { return static_cast<int>(last - first); }
   int operator[](int i) const { return first[i]; }
+};
+
+/// Each vertex's neighbours in counter-clockwise order, and nothing else: the cheap
+/// core of Connectivity (no halfedges, no twins, no edge numbering), built from one
+/// cache-friendly sort of the corners so that every later read is local to one
+/// vertex. For passes over large meshes that only walk rings, such as the recovery
+/// of subdivision connectivity. ring() follows Connectivity::ring exactly.
+///
+/// A vertex whose corners do not chain into one fan (a non-manifold vertex, or one
+/// on a non-manifold edge or a face of opposite winding) has an empty ring.
+class VertexRings {
+ public:
+  VertexRings() = default;
+  VertexRings(const Faces& F, int numVertices);
+
+  int numVertices() const { return static_cast<int>(state_.size()); }
+  IndexSpan ring(int v) const;
+  int valence(int v) const { return ring(v).size(); }
+  bool isBoundaryVertex(int v) const { return state_[v] == kBoundary; }
+  bool isManifoldVertex(int v) const { return state_[v] <= kBoundary; }
+  /// Number of undirected edges, when every vertex is manifold.
+  long long numEdgesIfManifold() const;
+
+  int firstNonManifoldVertex = -1;  ///< -1 when there is none
+  int firstIsolatedVertex = -1;     ///< a vertex in no face, or -1
+
+ private:
+  enum : std::uint8_t { kClosed = 0, kBoundary = 1, kNonManifold = 2 };
+  // ring(v) starts at ring_[offset_[v] + v]: v's corner count, plus room for the one
+  // extra neighbour of a boundary vertex.
+  std::vector<int> offset_;
+  std::unique_ptr<int[]> ring_;
+  std::vector<std::uint8_t> state_;
 };
 
 class Connectivity {

@@ -1,10 +1,13 @@
 #include "osdmra/recovery.h"
 
 #include <algorithm>
+#include <atomic>
+#include <numeric>
 #include <sstream>
 
 #include "osdmra/connectivity.h"
 #include "osdmra/error.h"
+#include "osdmra/parallel.h"
 
 namespace osdmra {
 
@@ -18,191 +21,293 @@ std::uint64_t pairKey(int a, int b) {
          static_cast<std::uint32_t>(b);
 }
 
-bool regular(const Connectivity& c, int v) {
+bool regular(const VertexRings& c, int v) {
   return c.isBoundaryVertex(v) ? c.valence(v) == 4 : c.valence(v) == 6;
 }
 
-// Labels one component from `seed` assumed old. Fills label and parent pairs;
-// returns false (with `why`) on the first contradiction.
-bool labelComponent(const Connectivity& c, int seed, const std::vector<int>& component,
-                    std::vector<signed char>& label, std::vector<std::array<int, 2>>& parents,
-                    std::string& why) {
-  for (int v : component) {
-    label[v] = Unknown;
-    parents[v] = {-1, -1};
+// Union-find over vertices that several threads may update at once: every link
+// goes from a root to a smaller root by compare-and-swap, so parent[x] <= x always,
+// and each class ends up rooted at its smallest vertex whatever the interleaving.
+// Path halving only ever moves a pointer further up the same tree.
+struct Classes {
+  std::vector<std::atomic<int>> parent;
+  explicit Classes(int n) : parent(n) {
+    forChunks(n, numChunks(n), [&](int, int begin, int end) {
+      for (int v = begin; v < end; ++v) parent[v].store(v, std::memory_order_relaxed);
+    });
   }
-  std::vector<int> queue{seed};
-  label[seed] = Old;
-  for (std::size_t qi = 0; qi < queue.size(); ++qi) {
-    const int v = queue[qi];
-    for (int m : c.ring(v)) {
+  int find(int x) {
+    int p = parent[x].load(std::memory_order_relaxed);
+    while (p != x) {
+      const int grand = parent[p].load(std::memory_order_relaxed);
+      if (grand != p) parent[x].compare_exchange_weak(p, grand, std::memory_order_relaxed);
+      x = grand;
+      p = parent[x].load(std::memory_order_relaxed);
+    }
+    return x;
+  }
+  void unite(int a, int b) {
+    while (true) {
+      a = find(a);
+      b = find(b);
+      if (a == b) return;
+      if (a < b) std::swap(a, b);
+      int expected = a;
+      if (parent[a].compare_exchange_strong(expected, b, std::memory_order_relaxed)) return;
+    }
+  }
+};
+
+// Checks vertex v against a labelling: an old vertex has only new neighbours; a new
+// one is regular, with exactly two old neighbours, opposite each other in its ring
+// (the two ends of its ring path on a boundary), which are its parents. `lonely` is
+// set when v is new without any old neighbour, as in a component no old vertex of the
+// labelling reaches.
+bool checkVertex(const VertexRings& c, int v, const std::vector<signed char>& label,
+                 std::array<int, 2>& parents, bool& lonely, std::string& why) {
+  const IndexSpan ring = c.ring(v);
+  if (label[v] == Old) {
+    for (int m : ring)
       if (label[m] == Old) {
         why = "vertices " + std::to_string(v) + " and " + std::to_string(m) +
               " would both be old but are adjacent";
         return false;
       }
-      label[m] = New;
-      if (!regular(c, m)) {
-        why = "vertex " + std::to_string(m) + " (valence " + std::to_string(c.valence(m)) +
-              ") would be an edge midpoint but is not regular";
-        return false;
-      }
-      const IndexSpan ring = c.ring(m);
-      int pos = -1;
-      for (int i = 0; i < ring.size(); ++i)
-        if (ring[i] == v) pos = i;
-      int w;
-      if (c.isBoundaryVertex(m)) {
-        // Boundary midpoint: its parents are the two ends of its ring path.
-        if (pos != 0 && pos != 3) {
-          why =
-              "boundary vertex " + std::to_string(m) + " would be the midpoint of an interior edge";
-          return false;
-        }
-        w = ring[3 - pos];
-      } else {
-        w = ring[(pos + 3) % 6];
-      }
-      if (label[w] == New) {
-        why = "vertex " + std::to_string(w) + " would be both old and new";
-        return false;
-      }
-      if (parents[m][0] >= 0 && pairKey(parents[m][0], parents[m][1]) != pairKey(v, w)) {
-        why = "vertex " + std::to_string(m) + " would have two different parent edges";
-        return false;
-      }
-      parents[m] = {v, w};
-      if (label[w] == Unknown) {
-        label[w] = Old;
-        queue.push_back(w);
-      }
-    }
+    return true;
   }
-  for (int v : component)
-    if (label[v] == Unknown) {
-      why = "vertex " + std::to_string(v) + " is neither old nor a midpoint";
-      return false;
-    }
+  if (!regular(c, v)) {
+    why = "vertex " + std::to_string(v) + " (valence " + std::to_string(ring.size()) +
+          ") would be an edge midpoint but is not regular";
+    return false;
+  }
+  int numOld = 0, first = -1;
+  for (int i = 0; i < ring.size(); ++i)
+    if (label[ring[i]] == Old && numOld++ == 0) first = i;
+  lonely = numOld == 0;
+  const bool boundary = c.isBoundaryVertex(v);
+  if (numOld != 2 || first > 2 || label[ring[first + 3]] != Old || (boundary && first != 0)) {
+    why = "vertex " + std::to_string(v) + " would be an edge midpoint but has " +
+          std::to_string(numOld) + " old neighbours" +
+          (numOld == 2 ? std::string(boundary ? " not at the ends of its boundary edge"
+                                              : " not opposite each other")
+                       : std::string());
+    return false;
+  }
+  parents = {ring[first], ring[first + 3]};
   return true;
 }
 
-// Peels one round off (F, n). On success fills the coarse mesh and the round.
-bool peel(const Connectivity& c, Connectivity& coarseConn, Recovery::Round& round, bool& arbitrary,
-          std::string& why) {
-  const Faces& F = c.faces();
+// Labels every vertex old or new. Two neighbours opposite each other across a
+// regular vertex are both old or both new (in a regular patch they lie on one line
+// of the lattice, two edges apart; across a midpoint they are its parents or two
+// midpoints), so one union-find pass over the rings groups the vertices into classes
+// that never mix old and new, and the old vertices of a component are one class:
+// neighbouring ones are opposite across their midpoint. Extraordinary vertices are
+// old, which names the old class; a component without any tries the class of its
+// smallest vertex, then those of that vertex's neighbours in ring order, and keeps
+// the first that checks out (so the base is chosen consistently). Every vertex is
+// then checked, which is what makes the labelling trustworthy, whatever produced it.
+bool label(const VertexRings& c, std::vector<signed char>& label,
+           std::vector<std::array<int, 2>>& parents, bool& arbitrary, std::string& why) {
   const int n = c.numVertices();
-  if (F.rows() % 4 != 0) {
-    why = "the face count " + std::to_string(F.rows()) + " is not a multiple of 4";
-    return false;
+  const int chunks = numChunks(n);
+  Classes classes(n);
+  forChunks(n, chunks, [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v) {
+      constexpr int kAhead = 8;  // the finds below read random places: ask early
+      if (v + kAhead < end)
+        for (int w : c.ring(v + kAhead)) __builtin_prefetch(&classes.parent[w]);
+      if (!regular(c, v)) continue;
+      const IndexSpan ring = c.ring(v);
+      if (c.isBoundaryVertex(v)) {
+        classes.unite(ring[0], ring[3]);
+      } else {
+        for (int i = 0; i < 3; ++i) classes.unite(ring[i], ring[i + 3]);
+      }
+    }
+  });
+  std::vector<std::uint8_t> oldClass(n, 0);
+  for (int v = 0; v < n; ++v)
+    if (!regular(c, v)) oldClass[classes.find(v)] = 1;
+  forChunks(n, chunks, [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v) label[v] = oldClass[classes.find(v)] ? Old : New;
+  });
+
+  // Check every vertex; report the first failure in vertex order, as a serial pass
+  // would, unless it is only a lonely new vertex (handled below).
+  struct Failure {
+    int vertex = -1;
+    std::string why;
+    bool anyLonely = false;
+  };
+  std::vector<Failure> failures(chunks);
+  forChunks(n, chunks, [&](int chunk, int begin, int end) {
+    Failure& f = failures[chunk];
+    for (int v = begin; v < end; ++v) {
+      bool lonely = false;
+      if (!checkVertex(c, v, label, parents[v], lonely, f.why)) {
+        if (!lonely) {
+          f.vertex = v;
+          return;
+        }
+        f.anyLonely = true;
+      }
+    }
+  });
+  bool anyLonely = false;
+  for (const Failure& f : failures) {
+    if (f.vertex >= 0) {
+      why = f.why;
+      return false;
+    }
+    anyLonely = anyLonely || f.anyLonely;
   }
-  if (c.firstNonManifoldEdgeFace >= 0 || c.firstFlippedFace >= 0 || c.firstNonManifoldVertex >= 0 ||
-      c.firstIsolatedVertex >= 0) {
-    why = "the mesh is not a manifold";
-    return false;
-  }
-  std::vector<signed char> label(n, Unknown);
-  std::vector<std::array<int, 2>> parents(n, {-1, -1});
-  std::vector<char> seen(n, 0);
-  for (int start = 0; start < n; ++start) {
-    if (seen[start]) continue;
-    // The component of `start`, by breadth-first search over rings.
-    std::vector<int> component{start};
-    seen[start] = 1;
+  if (!anyLonely) return true;
+
+  // Vertices without an old neighbour: each must lie in a component that has no
+  // extraordinary vertex (no old vertex at all so far).
+  std::vector<char> inComponent(n, 0);
+  for (int v0 = 0; v0 < n; ++v0) {
+    if (label[v0] != New || parents[v0][0] >= 0) continue;
+    std::vector<int> component{v0};
+    inComponent[v0] = 1;
     for (std::size_t i = 0; i < component.size(); ++i)
-      for (int w : c.ring(component[i]))
-        if (!seen[w]) {
-          seen[w] = 1;
+      for (int w : c.ring(component[i])) {
+        if (label[w] == Old) {
+          why = "vertex " + std::to_string(v0) + " is neither old nor a midpoint";
+          return false;
+        }
+        if (!inComponent[w]) {
+          inComponent[w] = 1;
           component.push_back(w);
         }
-    int seed = -1;
-    for (int v : component)
-      if (!regular(c, v) && (seed < 0 || v < seed)) seed = v;
-    if (seed >= 0) {
-      if (!labelComponent(c, seed, component, label, parents, why)) return false;
-      continue;
-    }
-    // No extraordinary vertex: the smallest vertex or one of its neighbours is old.
-    const int v0 = *std::min_element(component.begin(), component.end());
-    std::vector<int> candidates{v0};
-    for (int w : c.ring(v0)) candidates.push_back(w);
-    bool ok = false;
-    std::string first;
-    for (int cand : candidates) {
-      std::string w;
-      if (labelComponent(c, cand, component, label, parents, w)) {
-        ok = true;
-        arbitrary = true;
-        break;
       }
+    std::vector<int> candidates{classes.find(v0)};
+    for (int w : c.ring(v0))
+      if (std::find(candidates.begin(), candidates.end(), classes.find(w)) == candidates.end())
+        candidates.push_back(classes.find(w));
+    std::string first;
+    bool ok = false;
+    for (int root : candidates) {
+      for (int w : component) label[w] = classes.find(w) == root ? Old : New;
+      ok = true;
+      std::string w;
+      for (int u : component) {
+        bool lonely = false;
+        if (!checkVertex(c, u, label, parents[u], lonely, w)) {
+          ok = false;
+          break;
+        }
+      }
+      if (ok) break;
       if (first.empty()) first = w;
     }
     if (!ok) {
       why = first;
       return false;
     }
+    arbitrary = true;
   }
+  return true;
+}
+
+// Peels one round off the mesh (F, c). On success fills the round and the coarse
+// faces; the caller checks that the coarse mesh is a manifold with one edge per
+// midpoint, which completes the proof that splitting it gives back F exactly.
+bool peel(const Faces& F, const VertexRings& c, Faces& coarse, int& coarseCount,
+          Recovery::Round& round, std::string& why, bool& arbitrary) {
+  const int n = c.numVertices();
+  if (F.rows() % 4 != 0) {
+    why = "the face count " + std::to_string(F.rows()) + " is not a multiple of 4";
+    return false;
+  }
+  if (c.firstNonManifoldVertex >= 0 || c.firstIsolatedVertex >= 0) {
+    why = "the mesh is not a manifold (at vertex " +
+          std::to_string(std::max(c.firstNonManifoldVertex, c.firstIsolatedVertex)) + ")";
+    return false;
+  }
+  std::vector<signed char> labels(n, Unknown);
+  round.parents.assign(n, {-1, -1});  // input indices until the coarse numbering
+  if (!label(c, labels, round.parents, arbitrary, why)) return false;
 
   // Coarse numbering: old vertices in input order.
   round.coarseOf.assign(n, -1);
-  int coarseCount = 0;
+  coarseCount = 0;
   for (int v = 0; v < n; ++v)
-    if (label[v] == Old) round.coarseOf[v] = coarseCount++;
-  round.parents.assign(n, {-1, -1});
-  int numNew = 0;
-  for (int v = 0; v < n; ++v)
-    if (label[v] == New) {
-      round.parents[v] = {round.coarseOf[parents[v][0]], round.coarseOf[parents[v][1]]};
-      ++numNew;
-    }
+    if (labels[v] == Old) round.coarseOf[v] = coarseCount++;
 
-  // Coarse faces from the centre faces (m1, m2, m0) of split triangles (v0, v1, v2):
-  // v0 is the parent m2 and m0 share, and so on.
-  auto common = [&](int x, int y) {
-    for (int a : parents[x])
-      for (int b : parents[y])
-        if (a == b) return a;
-    return -1;
+  // The coarse faces, from the centre faces seen around each midpoint m. With its
+  // parents p0 = ring[i] and p1 = ring[i+3], the face (m, ring[i+1], ring[i+2]) is the
+  // centre of the coarse triangle (p0, q, p1) when ring[i+1] is the midpoint of p0
+  // and some q and ring[i+2] that of q and p1; the same with p0 and p1 exchanged for
+  // the face on the other side (a boundary midpoint has one). That is all there is to
+  // check: in a labelling that passed checkVertex the three corner faces of such a
+  // centre are in the input too (m's ring gives (m, p0, ring[i+1]) and
+  // (m, ring[i+2], p1); ring[i+1]'s ring, ordered the same way, holds the one at q),
+  // and they lie across the centre's edges, so they are distinct. Each centre is
+  // taken from its smallest midpoint; with one centre per four faces the input is
+  // exactly the split of the coarse faces. The caller checks that those make a
+  // manifold with one edge per midpoint.
+  // Parents as coarse indices from here on (the reads below then stay in one array).
+  std::vector<std::array<int, 2>>& parents = round.parents;
+  const int chunks = numChunks(n);
+  forChunks(n, chunks, [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v)
+      if (labels[v] == New)
+        parents[v] = {round.coarseOf[parents[v][0]], round.coarseOf[parents[v][1]]};
+  });
+  struct Centres {
+    std::vector<int> corners;  // three coarse indices per centre
+    std::string why;
   };
-  // The corner child (a, ab, ca) must be an input face: the face on halfedge a->ab.
-  auto hasCorner = [&](int a, int ab, int ca) {
-    for (int h : c.fan(a))
-      if (c.to(h) == ab) return c.from(Connectivity::prev(h)) == ca;
-    return false;
-  };
-  Faces coarse(F.rows() / 4, 3);
-  Eigen::Index k = 0;
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const int x = F(f, 0), y = F(f, 1), z = F(f, 2);
-    if (label[x] != New || label[y] != New || label[z] != New) continue;
-    const int a = common(y, z), b = common(z, x), cc = common(x, y);
-    if (a < 0 || b < 0 || cc < 0 || a == b || b == cc || a == cc || k == coarse.rows()) {
-      why = "face " + std::to_string(f) + " does not sit in the middle of a split triangle";
+  std::vector<Centres> found(chunks);
+  forChunks(n, chunks, [&](int chunk, int begin, int end) {
+    Centres& out = found[chunk];
+    out.corners.reserve(static_cast<std::size_t>(end - begin) * 3 / 2);
+    for (int m = begin; m < end; ++m) {
+      // The parents of the next midpoints' neighbours are random reads: ask early.
+      constexpr int kAhead = 8;
+      if (m + kAhead < end && labels[m + kAhead] == New)
+        for (int w : c.ring(m + kAhead)) __builtin_prefetch(&parents[w]);
+      if (labels[m] != New) continue;
+      const IndexSpan ring = c.ring(m);
+      // checkVertex took the old neighbour that comes first in ring order as the
+      // first parent.
+      const int i0 = labels[ring[0]] == Old ? 0 : labels[ring[1]] == Old ? 1 : 2;
+      for (int side = 0; side < (c.isBoundaryVertex(m) ? 1 : 2); ++side) {
+        const int i = i0 + 3 * side;
+        const int x = ring[(i + 1) % 6], y = ring[(i + 2) % 6];
+        if (x < m || y < m) continue;  // taken from its smallest midpoint
+        const int p0 = parents[m][side], p1 = parents[m][1 - side];
+        const std::array<int, 2>& px = parents[x];
+        const int q = px[0] == p0 ? px[1] : px[1] == p0 ? px[0] : -1;
+        if (q < 0 || pairKey(parents[y][0], parents[y][1]) != pairKey(q, p1)) {
+          out.why = "the face (" + std::to_string(m) + ", " + std::to_string(x) + ", " +
+                    std::to_string(y) + ") does not sit in the middle of a split triangle";
+          return;
+        }
+        out.corners.insert(out.corners.end(), {p0, q, p1});
+      }
+    }
+  });
+  std::size_t total = 0;
+  for (const Centres& f : found) {
+    if (!f.why.empty()) {
+      why = f.why;
       return false;
     }
-    // Splitting (a, b, cc) gives back this centre face and three corner faces; with
-    // one centre per quarter of the faces, that accounts for every input face.
-    if (!hasCorner(a, z, y) || !hasCorner(b, x, z) || !hasCorner(cc, y, x)) {
-      why = "the triangles around face " + std::to_string(f) + " are not a 1-to-4 split";
-      return false;
-    }
-    coarse.row(k++) << round.coarseOf[a], round.coarseOf[b], round.coarseOf[cc];
+    total += f.corners.size() / 3;
   }
-  if (k != coarse.rows()) {
-    why = "found " + std::to_string(k) + " centre triangles for " + std::to_string(F.rows()) +
+  if (4 * total != static_cast<std::size_t>(F.rows())) {
+    why = "found " + std::to_string(total) + " centre triangles for " + std::to_string(F.rows()) +
           " faces (expected a quarter)";
     return false;
   }
-  coarseConn = Connectivity(coarse, coarseCount);
-  if (coarseConn.firstNonManifoldEdgeFace >= 0 || coarseConn.firstFlippedFace >= 0 ||
-      coarseConn.firstNonManifoldVertex >= 0 || coarseConn.firstIsolatedVertex >= 0) {
-    why = "the coarser mesh would not be a manifold";
-    return false;
-  }
-  // One midpoint per coarse edge (so no two vertices split the same edge).
-  if (coarseConn.numEdges() != numNew) {
-    why = std::to_string(numNew) + " midpoints for " + std::to_string(coarseConn.numEdges()) +
-          " edges of the coarser mesh";
-    return false;
+  coarse.resize(static_cast<Eigen::Index>(total), 3);
+  int* to = coarse.data();
+  for (Centres& f : found) {
+    to = std::copy(f.corners.begin(), f.corners.end(), to);
+    std::vector<int>().swap(f.corners);
   }
   return true;
 }
@@ -210,31 +315,45 @@ bool peel(const Connectivity& c, Connectivity& coarseConn, Recovery::Round& roun
 }  // namespace
 
 Recovery recoverSubdivision(const Faces& F, int numVertices, int maxLevels) {
-  return recoverSubdivision(Connectivity(F, numVertices), maxLevels);
-}
-
-Recovery recoverSubdivision(const Connectivity& mesh, int maxLevels) {
   Recovery r;
-  // The finest round reads the caller's connectivity; coarser ones own theirs.
-  Connectivity current;
-  const Connectivity* fine = &mesh;
+  Faces owned;  // the coarser faces, once a round is peeled
+  const Faces* faces = &F;
+  int n = numVertices;
+  VertexRings rings(F, n);
   while (r.levels < maxLevels) {
-    Connectivity coarse;
+    Faces coarse;
+    int coarseCount = 0;
     Recovery::Round round;
     bool arbitrary = false;
     std::string why;
-    if (!peel(*fine, coarse, round, arbitrary, why)) {
+    if (!peel(*faces, rings, coarse, coarseCount, round, why, arbitrary)) {
       r.stopReason = why;
+      break;
+    }
+    VertexRings coarseRings(coarse, coarseCount);
+    if (coarseRings.firstNonManifoldVertex >= 0) {
+      r.stopReason = "the coarser mesh would not be a manifold (at its vertex " +
+                     std::to_string(coarseRings.firstNonManifoldVertex) + ")";
+      break;
+    }
+    // One midpoint per coarse edge (no edge split twice, once from each side).
+    const int numNew = n - coarseCount;
+    if (coarseRings.numEdgesIfManifold() != numNew) {
+      r.stopReason = std::to_string(numNew) + " midpoints for " +
+                     std::to_string(coarseRings.numEdgesIfManifold()) +
+                     " edges of the coarser mesh";
       break;
     }
     r.arbitraryChoice = r.arbitraryChoice || arbitrary;
     r.rounds.push_back(std::move(round));
-    current = std::move(coarse);
-    fine = &current;
+    owned = std::move(coarse);
+    faces = &owned;
+    rings = std::move(coarseRings);
+    n = coarseCount;
     ++r.levels;
   }
-  r.baseFaces = fine->faces();
-  r.numBaseVertices = fine->numVertices();
+  r.baseFaces = faces == &owned ? std::move(owned) : F;
+  r.numBaseVertices = n;
   return r;
 }
 

@@ -19,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include "osdmra/connectivity.h"
 #include "osdmra/hierarchy.h"
 #include "osdmra/mesh.h"
 
@@ -51,8 +50,6 @@ struct Recovery {
 /// Peels rounds of 1-to-4 splitting off a valid (manifold, oriented) mesh, at most
 /// `maxLevels` of them.
 Recovery recoverSubdivision(const Faces& F, int numVertices, int maxLevels = 15);
-/// The same from the mesh's connectivity, when the caller has it already.
-Recovery recoverSubdivision(const Connectivity& mesh, int maxLevels = 15);
 
 /// For each input vertex, its index in level `r.levels` of `h`, the hierarchy built
 /// over r.baseFaces with r.levels levels.

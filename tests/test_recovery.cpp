@@ -180,3 +180,57 @@ TEST(Recovery, BaseMeshHasNoLevels) {
   EXPECT_EQ(r.levels, 0);
   EXPECT_EQ(r.baseFaces.rows(), 4);
 }
+
+TEST(Recovery, LargeShuffledMeshAcrossThreads) {
+  // Large enough that the passes run in several chunks: the result must be the same
+  // structure, and a defect far into the vertex range must still be found.
+  const TriMesh surface = subdivide(shapes::icosahedron(), 7, Scheme::Linear);
+  const TriMesh input = shuffle(surface, 77);
+  const int n = static_cast<int>(input.V.rows());
+  const Recovery r = recoverSubdivision(input.F, n);
+  ASSERT_EQ(r.levels, 7) << describe(r);
+  EXPECT_EQ(r.baseFaces.rows(), 20);
+  EXPECT_EQ(sortedValences(r.baseFaces, r.numBaseVertices), std::vector<int>(12, 5));
+  Hierarchy h(r.baseFaces, r.numBaseVertices, r.levels);
+  const std::vector<int> canon = canonicalIndices(r, h);
+  std::vector<int> hits(n, 0);
+  for (int c : canon) ++hits[c];
+  EXPECT_TRUE(std::all_of(hits.begin(), hits.end(), [](int x) { return x == 1; }));
+
+  Faces flipped = input.F;
+  ASSERT_TRUE(flipEdge(flipped, n, static_cast<int>(flipped.rows()) - 5));
+  const Recovery bad = recoverSubdivision(flipped, n);
+  EXPECT_EQ(bad.levels, 0) << describe(bad);
+}
+
+TEST(Recovery, EdgeSplitFromEachSideSeparatelyIsRejected) {
+  // The octahedron split once, then cut open along one half of a coarse edge: the
+  // faces on one side get their own copy m' of the midpoint m of edge (a, b). Every
+  // face is still a corner or a centre of a split triangle, but the coarse edge
+  // (a, b) would have two midpoints.
+  const TriMesh surface = subdivide(shapes::octahedron(), 1, Scheme::Linear);
+  const int n = static_cast<int>(surface.V.rows());
+  // Base vertices keep their indices (0..5) in the canonical order.
+  const int a = shapes::octahedron().F(0, 0), b = shapes::octahedron().F(0, 1);
+  const Connectivity c(surface.F, n);
+  // The midpoint of (a, b): the common neighbour of a and b that is a new vertex.
+  int m = -1;
+  for (int x : c.ring(a))
+    for (int y : c.ring(b))
+      if (x == y && x >= 6) m = x;
+  ASSERT_GE(m, 0);
+  // The three faces around m from a to b counter-clockwise get m' = n instead.
+  Faces F = surface.F;
+  const IndexSpan ring = c.ring(m);
+  int ia = 0;
+  while (ring[ia] != a) ++ia;
+  ASSERT_EQ(ring[(ia + 3) % 6], b);
+  for (int k = 0; k < 3; ++k) {
+    const int f = c.fan(m)[(ia + k) % 6] / 3;
+    for (int i = 0; i < 3; ++i)
+      if (F(f, i) == m) F(f, i) = n;
+  }
+  const Recovery r = recoverSubdivision(F, n + 1);
+  EXPECT_EQ(r.levels, 0) << describe(r);
+  EXPECT_NE(r.stopReason.find("13 midpoints for 12 edges"), std::string::npos) << r.stopReason;
+}
