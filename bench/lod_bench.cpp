@@ -98,6 +98,7 @@ const LodInput& lodInput(Scheme scheme, int levels = 8) {
         makeFilterBank(c->surface->hierarchy, scheme, {WaveletKind::Quasi, kDefaultRings}));
     c->d = std::make_unique<Decomposition>(analyze(*c->bank, c->surface->V));
     c->approx = std::make_unique<Approximator>(*c->bank, *c->d);
+    c->approx->triangleCounts();  // once per surface, timed by bmApproximatorSetup
     for (Eigen::Index i = 0; i < V.rows(); ++i)
       for (int k = 0; k < 3; ++k) c->positions.push_back(static_cast<float>(V(i, k)));
     for (Eigen::Index f = 0; f < c->mesh.F.rows(); ++f)
@@ -124,6 +125,17 @@ void bmOsdmraLod(benchmark::State& state, Scheme scheme, long long triangles) {
   }
   // Against the input itself (polyhedral: the full-resolution surface is the input).
   errorCounters(state, a.mesh, in.mesh);
+}
+
+// What an analysed surface costs once before its first budget: the approximator (one
+// sort of the coefficients, the full-resolution reference, limit stencils for Loop)
+// and the triangle count of every prefix of the importance order.
+void bmApproximatorSetup(benchmark::State& state, Scheme scheme) {
+  const LodInput& in = lodInput(scheme);
+  for (auto _ : state) {
+    Approximator approx(*in.bank, *in.d);
+    benchmark::DoNotOptimize(approx.triangleCounts().back());
+  }
 }
 
 void bmMeshopt(benchmark::State& state, long long triangles) {
@@ -184,6 +196,12 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Iterations(5);
+  for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
+    benchmark::RegisterBenchmark(
+        (std::string("Lod/ApproximatorSetup/") + schemeName(scheme)).c_str(), bmApproximatorSetup,
+        scheme)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
   for (long long t : {26214LL, 52428LL, 131072LL}) {
     benchmark::RegisterBenchmark(("Lod/OsdmraLinear/triangles:" + std::to_string(t)).c_str(),
                                  bmOsdmraLod, Scheme::Linear, t)

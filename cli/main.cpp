@@ -56,10 +56,12 @@ commands:
                                rebuild the surface (or its level-j approximation),
                                optionally from the most important coefficients only
   lod IN (--epsilon E | --budget N | --keep F) -o OUT [--scheme S] [--rings R]
-                 [--importance scaled|plain] [--samples N --seed S]
+                 [--importance scaled|plain] [--exact] [--samples N --seed S]
                                crack-free adaptive mesh from the most important
                                coefficients, on the truncated surface (Loop: limit
-                               positions and normals), with its errors
+                               positions and normals), with its errors; the
+                               coefficients of vertices the mesh has anyway are kept
+                               too (no extra triangle) unless --exact
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]
@@ -411,7 +413,8 @@ struct Analysed {
 };
 
 Analysed analysed(const TriMesh& mesh, const std::string& in, int levels, Scheme scheme,
-                  const WaveletOptions& w, Importance importance, const Progress& progress) {
+                  const WaveletOptions& w, const ApproximationOptions& options,
+                  const Progress& progress) {
   const auto t0 = Clock::now();
   Analysed a{[&] {
                try {
@@ -423,7 +426,7 @@ Analysed analysed(const TriMesh& mesh, const std::string& in, int levels, Scheme
              nullptr, nullptr, nullptr, 0};
   a.bank = std::make_unique<FilterBank>(makeFilterBank(a.surface.hierarchy, scheme, w, progress));
   a.d = std::make_unique<Decomposition>(analyze(*a.bank, a.surface.V, progress));
-  a.approx = std::make_unique<Approximator>(*a.bank, *a.d, importance);
+  a.approx = std::make_unique<Approximator>(*a.bank, *a.d, options);
   a.seconds = seconds(t0);
   return a;
 }
@@ -434,8 +437,11 @@ Analysed analysed(const std::string& in, const Args& args, const Common& opt) {
   const std::string how = args.get("importance", "scaled");
   if (how != "scaled" && how != "plain")
     throw Error("--importance must be scaled or plain, got '" + how + "'");
+  ApproximationOptions options;
+  options.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
+  options.saturate = !args.has("exact");
   return analysed(readValidMesh(in), in, static_cast<int>(args.integer("levels", -1, 1, 15)),
-                  scheme, w, how == "plain" ? Importance::Plain : Importance::Scaled, opt.progress);
+                  scheme, w, options, opt.progress);
 }
 
 DistanceOptions distanceOptions(const Args& args) {
@@ -448,7 +454,7 @@ DistanceOptions distanceOptions(const Args& args) {
 // The numbers reported with every level of detail.
 struct LodReport {
   int triangles;
-  long long kept, total;
+  long long selected, kept, total;
   double l2, l2Relative, rmsRelative, hausdorffRelative, extractSeconds;
 };
 
@@ -460,13 +466,14 @@ LodReport report(const Analysed& a, const Approximation& x, double extractSecond
   const SurfaceDistance sd = surfaceDistance(x.mesh, full, dist);
   // Parametric RMS: every base triangle has area 1.
   const double rmsParam = l2 / std::sqrt(static_cast<double>(a.d->baseFaces.rows()));
-  return {x.triangles(),        x.kept,        x.total, l2, rmsParam / diag, sd.rmsRelative,
-          sd.hausdorffRelative, extractSeconds};
+  return {x.triangles(),  x.selected,           x.kept,        x.total, l2, rmsParam / diag,
+          sd.rmsRelative, sd.hausdorffRelative, extractSeconds};
 }
 
 Json reportJson(const LodReport& r) {
   return Json::object()
       .add("triangles", r.triangles)
+      .add("coefficients_selected", r.selected)
       .add("coefficients_kept", r.kept)
       .add("coefficients", r.total)
       .add("l2_error", r.l2)
@@ -566,7 +573,7 @@ int cmdLod(const std::vector<std::string>& argv) {
   Args args("lod", argv,
             {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
              "importance", "samples", "seed"},
-            flags());
+            flags({"exact"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
   const Common opt = common(args);
@@ -614,7 +621,7 @@ int cmdSweep(const std::vector<std::string>& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
              "samples", "seed"},
-            flags());
+            flags({"exact"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
   const std::string in = args.positional()[0], csv = args.require("csv");
@@ -831,7 +838,7 @@ int cmdDemo(const std::vector<std::string>& argv) {
     std::printf("%s: %d vertices, %d faces\n", in.c_str(), static_cast<int>(mesh.V.rows()),
                 static_cast<int>(mesh.F.rows()));
   for (Scheme scheme : {Scheme::Loop, Scheme::Linear}) {
-    const Analysed a = analysed(mesh, in, 6, scheme, w, Importance::Scaled, opt.progress);
+    const Analysed a = analysed(mesh, in, 6, scheme, w, ApproximationOptions{}, opt.progress);
     const auto t0 = Clock::now();
     const Points back = synthesize(*a.bank, *a.d, a.d->levels);
     const double tS = seconds(t0);

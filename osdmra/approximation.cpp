@@ -7,8 +7,12 @@
 
 namespace osdmra {
 
-Approximator::Approximator(const FilterBank& bank, const Decomposition& d, Importance importance)
-    : bank_(bank), d_(d), importance_(osdmra::importance(d, bank.norms, importance)) {
+Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
+                           ApproximationOptions options)
+    : bank_(bank),
+      d_(d),
+      options_(options),
+      importance_(osdmra::importance(d, bank.norms, options.importance)) {
   // One sort serves every extraction: keeping k coefficients is a prefix.
   for (std::size_t j = 0; j < importance_.size(); ++j)
     for (Eigen::Index i = 0; i < importance_[j].size(); ++i)
@@ -42,13 +46,14 @@ KeepMask Approximator::maskOfCount(long long count) const {
   return keep;
 }
 
-Approximation Approximator::make(const KeepMask& keep) const {
+Approximation Approximator::make(const KeepMask& selection) const {
   Approximation a;
   a.total = numCoefficients();
-  a.kept = countKept(keep);
-  a.keep = keep;
-  a.lod = extractLod(*bank_.hierarchy, keep);
-  const Points controls = synthesize(bank_, truncate(d_, keep), d_.levels);
+  a.selected = countKept(selection);
+  a.keep = options_.saturate ? saturate(*bank_.hierarchy, selection) : selection;
+  a.kept = countKept(a.keep);
+  a.lod = extractLod(*bank_.hierarchy, a.keep);
+  const Points controls = synthesize(bank_, truncate(d_, a.keep), d_.levels);
   // Only the LOD's vertices are evaluated: rows of the limit stencils (or of the
   // controls themselves for the polyhedral scheme).
   const int n = static_cast<int>(a.lod.vertices.size());
@@ -83,36 +88,17 @@ Approximation Approximator::keepAbove(double epsilon) const {
   return make(osdmra::keepAbove(importance_, epsilon));
 }
 
+const std::vector<long long>& Approximator::triangleCounts() const {
+  std::call_once(countsOnce_, [&] { counts_ = lodTriangleCounts(*bank_.hierarchy, order_); });
+  return counts_;
+}
+
 Approximation Approximator::budget(long long triangles) const {
-  // Largest count whose mesh fits. The triangle count grows with the kept count
-  // (nested keep sets give nested meshes) and almost linearly, so interpolating
-  // between the bracket's ends finds it in a few extractions; every other step is
-  // a bisection, so the bracket always at least halves in two steps.
-  auto trianglesOf = [&](long long count) {
-    return static_cast<long long>(
-        extractLod(*bank_.hierarchy, maskOfCount(count)).compactFaces.rows());
-  };
-  long long lo = 0, hi = numCoefficients();
-  long long tlo = trianglesOf(lo), thi = trianglesOf(hi);
-  if (thi <= triangles) return keepCount(hi);
-  if (tlo > triangles) return keepCount(0);  // the base mesh is the coarsest there is
-  for (bool interpolate = true; lo + 1 < hi; interpolate = !interpolate) {
-    long long mid = lo + (hi - lo) / 2;
-    if (interpolate && thi > tlo) {
-      const double f = static_cast<double>(triangles - tlo) / static_cast<double>(thi - tlo);
-      mid = lo + static_cast<long long>(f * static_cast<double>(hi - lo));
-    }
-    mid = std::clamp(mid, lo + 1, hi - 1);
-    const long long t = trianglesOf(mid);
-    if (t <= triangles) {
-      lo = mid;
-      tlo = t;
-    } else {
-      hi = mid;
-      thi = t;
-    }
-  }
-  return keepCount(lo);
+  // Largest count whose mesh fits: the counts never decrease, so a binary search.
+  const std::vector<long long>& counts = triangleCounts();
+  const auto fits = std::upper_bound(counts.begin(), counts.end(), triangles);
+  if (fits == counts.begin()) return keepCount(0);  // the base mesh is the coarsest there is
+  return keepCount(static_cast<long long>(fits - counts.begin()) - 1);
 }
 
 double Approximator::l2Error(const Approximation& a) const {

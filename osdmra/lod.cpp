@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -11,13 +12,21 @@ namespace osdmra {
 
 namespace {
 
-// The red/green closure over the hierarchy. red[j][f] says face f of M^j is split
-// 1-to-4 (j < J only: level-J faces are never split).
+// The red/green closure over the hierarchy. red_[j][f] is when face f of M^j turned
+// red (split 1-to-4; j < J only: level-J faces are never split), in the clock of the
+// caller (setTime), or kNever. One extraction uses one time; lodTriangleCounts grows
+// the mask one coefficient per tick.
 class Closure {
  public:
+  static constexpr int kNever = std::numeric_limits<int>::max();
+
   explicit Closure(const Hierarchy& h) : h_(h), J_(h.levels()), red_(J_), conn_(J_, nullptr) {
-    for (int j = 0; j < J_; ++j) red_[j].assign(static_cast<std::size_t>(h.numFaces(j)), 0);
+    for (int j = 0; j < J_; ++j) red_[j].assign(static_cast<std::size_t>(h.numFaces(j)), kNever);
   }
+
+  void setTime(int t) { now_ = t; }
+  /// When face f of M^j turned red, or kNever (always kNever at level J).
+  int redTime(int j, int f) const { return j < J_ ? red_[j][f] : kNever; }
 
   // Both level-j faces on edge {a, b} of M^j: the kept coefficient's vertex is that
   // edge's midpoint, which exists in the mesh only once they are split.
@@ -61,7 +70,7 @@ class Closure {
     }
   }
 
-  bool isRed(int j, int f) const { return j < J_ && red_[j][f] != 0; }
+  bool isRed(int j, int f) const { return j < J_ && red_[j][f] != kNever; }
 
   // Edge index (0..2) of face f of M^j across which the neighbour is red; -1 for
   // none. After close() there is at most one (rule iii).
@@ -70,7 +79,7 @@ class Closure {
     const Connectivity& c = conn(j);
     for (int i = 0; i < 3; ++i) {
       const int t = c.twin(3 * f + i);
-      if (t >= 0 && red_[j][t / 3]) return i;
+      if (t >= 0 && red_[j][t / 3] != kNever) return i;
     }
     return -1;
   }
@@ -85,35 +94,34 @@ class Closure {
   }
 
   void markRed(int j, int f) {
-    if (red_[j][f]) return;
-    red_[j][f] = 1;
+    if (red_[j][f] != kNever) return;
+    red_[j][f] = now_;
     work_.emplace_back(j, f);
   }
 
-  bool exists(int j, int f) const { return j == 0 || red_[j - 1][f >> 2]; }
+  bool exists(int j, int f) const { return j == 0 || red_[j - 1][f >> 2] != kNever; }
 
   // Rule (iii) for face g of M^j.
   void check(int j, int g) {
-    if (j >= J_ || red_[j][g] || !exists(j, g)) return;
+    if (j >= J_ || red_[j][g] != kNever || !exists(j, g)) return;
     const Connectivity& c = conn(j);
     int n = 0;
     for (int i = 0; i < 3; ++i) {
       const int t = c.twin(3 * g + i);
-      if (t >= 0 && red_[j][t / 3]) ++n;
+      if (t >= 0 && red_[j][t / 3] != kNever) ++n;
     }
     if (n >= 2) markRed(j, g);
   }
 
   const Hierarchy& h_;
   int J_;
-  std::vector<std::vector<char>> red_;
+  std::vector<std::vector<int>> red_;
   std::vector<const Connectivity*> conn_;
   std::vector<std::pair<int, int>> work_;
+  int now_ = 0;
 };
 
-}  // namespace
-
-LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
+void checkMask(const Hierarchy& h, const KeepMask& keep) {
   const int J = h.levels();
   if (static_cast<int>(keep.size()) != J)
     throw Error("extractLod: keep mask has " + std::to_string(keep.size()) +
@@ -124,14 +132,22 @@ LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
       throw Error("extractLod: keep mask level " + std::to_string(j) + " has " +
                   std::to_string(keep[j].size()) + " flags, expected " + std::to_string(n));
   }
+}
 
+void seedCoefficient(const Hierarchy& h, Closure& closure, int j, int e) {
+  const auto ab = h.parentEdge(j, e);
+  closure.seed(j, ab[0], ab[1]);
+}
+
+}  // namespace
+
+LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
+  checkMask(h, keep);
+  const int J = h.levels();
   Closure closure(h);
   for (int j = 0; j < J; ++j)
     for (std::size_t e = 0; e < keep[j].size(); ++e)
-      if (keep[j][e]) {
-        const auto ab = h.parentEdge(j, static_cast<int>(e));
-        closure.seed(j, ab[0], ab[1]);
-      }
+      if (keep[j][e]) seedCoefficient(h, closure, j, static_cast<int>(e));
   closure.close();
 
   // Walk down from the base faces through red faces only, children in order, so the
@@ -191,6 +207,89 @@ LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
   for (int r = 0; r < nf; ++r)
     for (int k = 0; k < 3; ++k) out.compactFaces(r, k) = compact[tris[r][k]];
   return out;
+}
+
+}  // namespace osdmra
+
+namespace osdmra {
+
+KeepMask saturate(const Hierarchy& h, const KeepMask& keep) {
+  checkMask(h, keep);
+  const int J = h.levels();
+  Closure closure(h);
+  for (int j = 0; j < J; ++j)
+    for (std::size_t e = 0; e < keep[j].size(); ++e)
+      if (keep[j][e]) seedCoefficient(h, closure, j, static_cast<int>(e));
+  closure.close();
+  // A coefficient whose edge has every face split already is free: seeding it marks
+  // nothing new, so the closure, and with it the mesh, stay the same.
+  KeepMask out = keep;
+  for (int j = 0; j < J; ++j) {
+    bool anyRed = false;
+    for (int f = 0; f < h.numFaces(j) && !anyRed; ++f) anyRed = closure.isRed(j, f);
+    if (!anyRed) continue;  // no split face at this level: nothing is free
+    const Connectivity& c = h.connectivity(j);
+    for (std::size_t e = 0; e < out[j].size(); ++e) {
+      if (out[j][e]) continue;
+      const auto ab = h.parentEdge(j, static_cast<int>(e));
+      const int edge = c.findEdge(ab[0], ab[1]);
+      const int he = c.edgeHalfedge(edge), tw = c.twin(he);
+      out[j][e] = closure.isRed(j, he / 3) && (tw < 0 || closure.isRed(j, tw / 3));
+    }
+  }
+  return out;
+}
+
+std::vector<long long> lodTriangleCounts(const Hierarchy& h,
+                                         const std::vector<std::pair<int, int>>& order) {
+  const int J = h.levels();
+  const int K = static_cast<int>(order.size());
+  for (const auto& [j, e] : order)
+    if (j < 0 || j >= J || e < 0 || e >= h.numVertices(j + 1) - h.numVertices(j))
+      throw Error("lodTriangleCounts: coefficient (" + std::to_string(j) + ", " +
+                  std::to_string(e) + ") is not in the hierarchy");
+  // When each face turns red as the mask grows: the closure of a larger mask contains
+  // that of a smaller one, so growing it one seed at a time and closing after each
+  // gives every face the first count at which extractLod would split it.
+  Closure closure(h);
+  for (int k = 0; k < K; ++k) {
+    closure.setTime(k + 1);
+    seedCoefficient(h, closure, order[k].first, order[k].second);
+    closure.close();
+  }
+  // Each face then adds to the output over a range of counts: nothing before it
+  // exists (its parent turns red), one triangle until a neighbour turns red, two
+  // (a green split) from then until it turns red itself, nothing after (its children
+  // take over). Rule (iii) makes it red by the time a second neighbour is, so the
+  // first red neighbour is all that matters. Steps go into a difference array.
+  std::vector<long long> steps(static_cast<std::size_t>(K) + 2, 0);
+  auto add = [&](int from, int to, int triangles) {
+    if (from >= to || from > K) return;
+    steps[from] += triangles;
+    steps[std::min(to, K + 1)] -= triangles;
+  };
+  constexpr int kNever = Closure::kNever;
+  for (int j = 0; j <= J; ++j) {
+    const Connectivity* c = j < J ? &h.connectivity(j) : nullptr;
+    for (int f = 0; f < h.numFaces(j); ++f) {
+      const int born = j == 0 ? 0 : closure.redTime(j - 1, f >> 2);
+      if (born == kNever) continue;
+      const int red = closure.redTime(j, f);
+      int green = kNever;
+      if (c)
+        for (int i = 0; i < 3; ++i) {
+          const int t = c->twin(3 * f + i);
+          if (t >= 0) green = std::min(green, closure.redTime(j, t / 3));
+        }
+      const int split = std::max(born, green);
+      add(born, std::min(split, red), 1);
+      add(split, red, 2);
+    }
+  }
+  std::vector<long long> counts(static_cast<std::size_t>(K) + 1);
+  long long running = 0;
+  for (int k = 0; k <= K; ++k) counts[k] = running += steps[k];
+  return counts;
 }
 
 }  // namespace osdmra

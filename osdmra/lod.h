@@ -21,6 +21,7 @@
 // levels that hold a split triangle, never for M^J.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "osdmra/hierarchy.h"
@@ -56,5 +57,19 @@ struct LodMesh {
 /// vertex of the result. Nothing kept gives the base mesh; everything kept gives M^J
 /// in canonical face order. Throws Error when the mask does not fit the hierarchy.
 LodMesh extractLod(const Hierarchy& h, const KeepMask& keep);
+
+/// The largest keep mask with the same mesh as `keep`: it adds every coefficient whose
+/// edge's faces the closure of `keep` splits anyway. Their vertices are in the mesh
+/// already, so keeping them costs no triangle and moves those vertices onto a closer
+/// truncated surface.
+KeepMask saturate(const Hierarchy& h, const KeepMask& keep);
+
+/// The triangle count of extractLod for every prefix of `order` at once: entry k is
+/// the count when exactly the first k coefficients (level j, index e within level j's
+/// new vertices) are kept, k = 0..order.size(). Costs about one full-resolution
+/// extraction, after which a triangle budget is a binary search (counts never
+/// decrease with k: the meshes of nested masks are nested).
+std::vector<long long> lodTriangleCounts(const Hierarchy& h,
+                                         const std::vector<std::pair<int, int>>& order);
 
 }  // namespace osdmra

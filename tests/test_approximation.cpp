@@ -69,9 +69,32 @@ TEST(Approximation, ExactAtBothEndsMonotoneAndWithinBudget) {
       for (long long budget : {f.h.numFaces(J) / 8, f.h.numFaces(J) / 3, f.h.numFaces(J) / 2}) {
         const Approximation a = approx.budget(budget);
         EXPECT_LE(a.triangles(), budget);
-        if (a.kept < a.total) {
-          EXPECT_GT(approx.keepCount(a.kept + 1).triangles(), budget);
+        if (a.selected < a.total) {
+          EXPECT_GT(approx.keepCount(a.selected + 1).triangles(), budget);
         }
+        EXPECT_GE(a.kept, a.selected);
       }
     }
+}
+
+// The free coefficients change nothing but the positions: the same faces, more kept,
+// and with --exact (saturate off) exactly the selection.
+TEST(Approximation, FreeCoefficientsKeepTheMesh) {
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    const Fixture f("icosahedron", s, 4);
+    const Approximator saturated(f.bank, f.d);
+    ApproximationOptions exactOptions;
+    exactOptions.saturate = false;
+    const Approximator exact(f.bank, f.d, exactOptions);
+    for (long long count : {10LL, 100LL, 1000LL}) {
+      const Approximation a = saturated.keepCount(count), b = exact.keepCount(count);
+      EXPECT_EQ(a.mesh.F, b.mesh.F);
+      EXPECT_EQ(a.selected, count);
+      EXPECT_EQ(b.selected, count);
+      EXPECT_EQ(b.kept, count);
+      EXPECT_GT(a.kept, count);
+      EXPECT_EQ(a.lod.vertices, b.lod.vertices);
+    }
+  }
 }

@@ -361,6 +361,71 @@ TEST(Lod, RandomMasksAreConformingAndMonotone) {
   }
 }
 
+// The triangle count of every prefix of an order, computed in one pass, is what
+// extractLod gives for that prefix's mask, and never decreases.
+TEST(Lod, TriangleCountsOfEveryPrefix) {
+  for (const auto& sp : shapesUnderTest()) {
+    const Shape& s = *sp;
+    SCOPED_TRACE(s.name);
+    std::vector<std::pair<int, int>> order;
+    for (int j = 0; j < s.J; ++j)
+      for (int e = 0; e < s.h.numVertices(j + 1) - s.h.numVertices(j); ++e)
+        order.emplace_back(j, e);
+    // Coarse coefficients first, as an importance order tends to give, then shuffled
+    // within a window so that closures interleave across levels.
+    std::mt19937 rng(11);
+    for (std::size_t i = 0; i + 1 < order.size(); ++i)
+      std::swap(order[i], order[i + rng() % std::min<std::size_t>(40, order.size() - i)]);
+    const std::vector<long long> counts = lodTriangleCounts(s.h, order);
+    const int K = static_cast<int>(order.size());
+    ASSERT_EQ(static_cast<int>(counts.size()), K + 1);
+    EXPECT_EQ(counts[0], s.base.F.rows());
+    EXPECT_EQ(counts[K], s.h.numFaces(s.J));
+    EXPECT_TRUE(std::is_sorted(counts.begin(), counts.end()));
+    KeepMask keep = emptyMask(s.h);
+    const int stride = std::max(1, K / 120);
+    for (int k = 0; k <= K; ++k) {
+      if (k > 0) keep[order[k - 1].first][order[k - 1].second] = 1;
+      if (k % stride == 0 || k == K) {
+        ASSERT_EQ(counts[k], extractLod(s.h, keep).faces.rows()) << "k = " << k;
+      }
+    }
+  }
+  const Hierarchy h(shapes::tetrahedron().F, 4, 2);
+  EXPECT_THROW(lodTriangleCounts(h, {{2, 0}}), Error);
+  EXPECT_THROW(lodTriangleCounts(h, {{0, 6}}), Error);
+}
+
+// saturate() adds exactly the coefficients that leave the mesh unchanged.
+TEST(Lod, SaturateKeepsTheMeshAndIsMaximal) {
+  for (const auto& sp : shapesUnderTest()) {
+    const Shape& s = *sp;
+    SCOPED_TRACE(s.name);
+    for (double density : {0.005, 0.05, 0.3}) {
+      SCOPED_TRACE(density);
+      const KeepMask keep = randomMask(s.h, 4, density);
+      const KeepMask full = saturate(s.h, keep);
+      const LodMesh lod = extractLod(s.h, keep);
+      EXPECT_EQ(extractLod(s.h, full).faces, lod.faces);
+      EXPECT_EQ(saturate(s.h, full), full);
+      std::mt19937 rng(8);
+      for (int j = 0; j < s.J; ++j)
+        for (std::size_t e = 0; e < keep[j].size(); ++e) {
+          if (keep[j][e]) {
+            EXPECT_TRUE(full[j][e]);  // a superset
+            continue;
+          }
+          if (rng() % 8 != 0) continue;  // a sample of the rest
+          KeepMask plus = full;
+          plus[j][e] = 1;
+          // Free coefficients change nothing; any other one changes the mesh.
+          EXPECT_EQ(extractLod(s.h, plus).faces.rows() == lod.faces.rows(), full[j][e] != 0)
+              << "level " << j << " coefficient " << e;
+        }
+    }
+  }
+}
+
 // One coefficient at the finest level: a valid mesh that refines only around it.
 TEST(Lod, SingleDeepCoefficient) {
   for (const auto& sp : shapesUnderTest()) {
