@@ -26,6 +26,7 @@
 #include "osdmra/io.h"
 #include "osdmra/mra_file.h"
 #include "osdmra/recovery.h"
+#include "osdmra/remesh.h"
 #include "osdmra/shapes.h"
 #include "osdmra/truncation.h"
 
@@ -49,9 +50,11 @@ commands:
                                refine a base mesh J times (a test surface when
                                displaced by noise at every level)
   analyze IN -o OUT.mra [--levels J] [--scheme loop|linear]
-                 [--wavelets lazy|quasi|pre] [--rings R]
+                 [--wavelets lazy|quasi|pre] [--rings R] [--remesh ...]
                                decompose a surface with subdivision connectivity (any
-                               vertex and face order) into base mesh + wavelet details
+                               vertex and face order) into base mesh + wavelet details;
+                               any other mesh with --remesh [--base-faces N] (then
+                               --levels J is the remesh's; see remesh)
   synthesize IN.mra -o OUT [--level j] [--keep F | --epsilon E] [--importance scaled|plain]
                                rebuild the surface (or its level-j approximation),
                                optionally from the most important coefficients only
@@ -61,7 +64,13 @@ commands:
                                coefficients, on the truncated surface (Loop: limit
                                positions and normals), with its errors; the
                                coefficients of vertices the mesh has anyway are kept
-                               too (no extra triangle) unless --exact
+                               too (no extra triangle) unless --exact; --remesh as
+                               for analyze (its distance reported apart)
+  remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
+                               any manifold triangle mesh (any genus, boundaries) to
+                               subdivision connectivity: a base of about N faces
+                               (default 300) split J times (default 5), positions
+                               on the input; reports the distance to the input
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]
@@ -223,6 +232,83 @@ int cmdSubdivide(const std::vector<std::string>& argv) {
 }
 
 // The surface of `mesh` in canonical form, with its level count given or found.
+DistanceOptions distanceOptions(const Args& args) {
+  DistanceOptions o;
+  o.samples = static_cast<int>(args.integer("samples", 100000, 0, 100000000));
+  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1LL << 62));
+  return o;
+}
+
+// An input surface brought to subdivision connectivity by remesh() (--remesh), with
+// what that cost and how far the result is from the input: reported apart from the
+// truncation error, which is measured against the remeshed surface.
+struct Remeshed {
+  bool used = false;
+  int droppedVertices = 0;
+  int inputVertices = 0, inputFaces = 0;
+  Remeshing result;
+  SurfaceDistance distance;
+  double seconds = 0;
+};
+
+RemeshOptions remeshOptions(const Args& args) {
+  RemeshOptions o;
+  o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
+  o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
+  o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
+  return o;
+}
+
+Remeshed remeshFile(const std::string& in, const Args& args, const Common& opt) {
+  Remeshed r;
+  TriMesh mesh = readMesh(in);
+  r.droppedVertices = removeUnreferencedVertices(mesh);
+  validate(mesh, in);
+  r.inputVertices = static_cast<int>(mesh.V.rows());
+  r.inputFaces = static_cast<int>(mesh.F.rows());
+  const auto t0 = Clock::now();
+  try {
+    r.result = remesh(mesh, remeshOptions(args), opt.progress);
+  } catch (const Error& e) {
+    throw Error(in + ": " + e.what());
+  }
+  r.seconds = seconds(t0);
+  r.distance = surfaceDistance(r.result.mesh, mesh, distanceOptions(args));
+  r.used = true;
+  return r;
+}
+
+Json remeshJson(const Remeshed& r) {
+  return Json::object()
+      .add("input_vertices", r.inputVertices)
+      .add("input_faces", r.inputFaces)
+      .add("unreferenced_vertices_dropped", r.droppedVertices)
+      .add("feature_edges", r.result.featureEdges)
+      .add("base_vertices", static_cast<int>(r.result.base.V.rows()))
+      .add("base_faces", static_cast<int>(r.result.base.F.rows()))
+      .add("faces", static_cast<int>(r.result.mesh.F.rows()))
+      .add("snapped_samples", r.result.snappedSamples)
+      .add("rms_relative", r.distance.rmsRelative)
+      .add("hausdorff_relative", r.distance.hausdorffRelative)
+      .add("seconds", r.seconds);
+}
+
+void printRemesh(const std::string& in, const Remeshed& r) {
+  std::printf(
+      "%s: remeshed %d faces to %d over a base of %d faces (%d feature edges) in %.2f s; "
+      "distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box diagonal\n",
+      in.c_str(), r.inputFaces, static_cast<int>(r.result.mesh.F.rows()),
+      static_cast<int>(r.result.base.F.rows()), r.result.featureEdges, r.seconds,
+      r.distance.rmsRelative, r.distance.hausdorffRelative);
+}
+
+// The surface a command works on: the file itself, or its remeshing with --remesh.
+TriMesh readSurface(const std::string& in, const Args& args, const Common& opt, Remeshed& r) {
+  if (!args.has("remesh")) return readValidMesh(in);
+  r = remeshFile(in, args, opt);
+  return r.result.mesh;
+}
+
 CanonicalSurface surfaceOf(const TriMesh& mesh, const Args& args, const std::string& in) {
   const int J = static_cast<int>(args.integer("levels", -1, 1, 15));
   try {
@@ -251,14 +337,18 @@ Json levelsJson(const Hierarchy& h, const Decomposition& d) {
 }
 
 int cmdAnalyze(const std::vector<std::string>& argv) {
-  Args args("analyze", argv, {"levels", "scheme", "wavelets", "rings", "output"}, flags());
+  Args args("analyze", argv,
+            {"levels", "scheme", "wavelets", "rings", "output", "base-faces", "feature-angle",
+             "samples", "seed"},
+            flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra analyze IN -o OUT.mra");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");
   const Scheme scheme = parseScheme(args.get("scheme", "loop"));
   const WaveletOptions w = waveletOptions(args);
   const auto t0 = Clock::now();
-  const TriMesh mesh = readValidMesh(in);
+  Remeshed remeshed;
+  const TriMesh mesh = readSurface(in, args, opt, remeshed);
   const double tRead = seconds(t0);
   const auto tr = Clock::now();
   const CanonicalSurface surface = surfaceOf(mesh, args, in);
@@ -279,8 +369,9 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
   const double error = (back - surface.V).cwiseAbs().maxCoeff() / (diag > 0 ? diag : 1.0);
   writeMra(out, d);
   if (opt.json) {
-    std::cout << Json::object()
-                     .add("command", "analyze")
+    Json j = Json::object();
+    if (remeshed.used) j.add("remesh", remeshJson(remeshed));
+    std::cout << j.add("command", "analyze")
                      .add("input", in)
                      .add("output", out)
                      .add("scheme", schemeName(scheme))
@@ -306,6 +397,7 @@ int cmdAnalyze(const std::vector<std::string>& argv) {
               << "\n";
     return 0;
   }
+  if (remeshed.used) printRemesh(in, remeshed);
   std::printf("%s: %d vertices, %d faces = %d %s levels over a base of %d vertices, %d faces\n",
               in.c_str(), static_cast<int>(mesh.V.rows()), static_cast<int>(mesh.F.rows()),
               d.levels, schemeName(scheme), static_cast<int>(d.base.rows()),
@@ -410,6 +502,7 @@ struct Analysed {
   std::unique_ptr<Decomposition> d;
   std::unique_ptr<Approximator> approx;
   double seconds = 0;
+  Remeshed remeshed;  ///< when the input went through --remesh
 };
 
 Analysed analysed(const TriMesh& mesh, const std::string& in, int levels, Scheme scheme,
@@ -423,7 +516,11 @@ Analysed analysed(const TriMesh& mesh, const std::string& in, int levels, Scheme
                  throw Error(in + ": " + e.what());
                }
              }(),
-             nullptr, nullptr, nullptr, 0};
+             nullptr,
+             nullptr,
+             nullptr,
+             0,
+             {}};
   a.bank = std::make_unique<FilterBank>(makeFilterBank(a.surface.hierarchy, scheme, w, progress));
   a.d = std::make_unique<Decomposition>(analyze(*a.bank, a.surface.V, progress));
   a.approx = std::make_unique<Approximator>(*a.bank, *a.d, options);
@@ -440,15 +537,12 @@ Analysed analysed(const std::string& in, const Args& args, const Common& opt) {
   ApproximationOptions options;
   options.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
   options.saturate = !args.has("exact");
-  return analysed(readValidMesh(in), in, static_cast<int>(args.integer("levels", -1, 1, 15)),
-                  scheme, w, options, opt.progress);
-}
-
-DistanceOptions distanceOptions(const Args& args) {
-  DistanceOptions o;
-  o.samples = static_cast<int>(args.integer("samples", 100000, 0, 100000000));
-  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1LL << 62));
-  return o;
+  Remeshed remeshed;
+  const TriMesh mesh = readSurface(in, args, opt, remeshed);
+  Analysed a = analysed(mesh, in, static_cast<int>(args.integer("levels", -1, 1, 15)), scheme, w,
+                        options, opt.progress);
+  a.remeshed = std::move(remeshed);
+  return a;
 }
 
 // The numbers reported with every level of detail.
@@ -572,8 +666,8 @@ void plotSweep(const std::string& csv, const std::string& png, const std::string
 int cmdLod(const std::vector<std::string>& argv) {
   Args args("lod", argv,
             {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
-             "importance", "samples", "seed"},
-            flags({"exact"}));
+             "importance", "samples", "seed", "base-faces", "feature-angle"},
+            flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
   const Common opt = common(args);
@@ -591,8 +685,9 @@ int cmdLod(const std::vector<std::string>& argv) {
   writeMesh(out, x.mesh);
   const LodReport r = report(a, x, tExtract, distanceOptions(args));
   if (opt.json) {
-    std::cout << Json::object()
-                     .add("command", "lod")
+    Json j = Json::object();
+    if (a.remeshed.used) j.add("remesh", remeshJson(a.remeshed));
+    std::cout << j.add("command", "lod")
                      .add("input", in)
                      .add("output", out)
                      .add("scheme", schemeName(a.bank->scheme))
@@ -606,6 +701,7 @@ int cmdLod(const std::vector<std::string>& argv) {
               << "\n";
     return 0;
   }
+  if (a.remeshed.used) printRemesh(in, a.remeshed);
   std::printf("%s: %s\n", in.c_str(), describe(a.surface.recovery).c_str());
   std::printf("wrote %s: %d triangles (of %d), %lld of %lld coefficients kept\n", out.c_str(),
               r.triangles, a.surface.hierarchy.numFaces(a.d->levels), r.kept, r.total);
@@ -620,8 +716,8 @@ int cmdLod(const std::vector<std::string>& argv) {
 int cmdSweep(const std::vector<std::string>& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
-             "samples", "seed"},
-            flags({"exact"}));
+             "samples", "seed", "base-faces", "feature-angle"},
+            flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
   const std::string in = args.positional()[0], csv = args.require("csv");
@@ -633,8 +729,9 @@ int cmdSweep(const std::vector<std::string>& argv) {
   if (!plot.empty())
     plotSweep(csv, plot, std::filesystem::path(in).filename().string(), schemeName(a.bank->scheme));
   if (opt.json) {
-    std::cout << Json::object()
-                     .add("command", "sweep")
+    Json j = Json::object();
+    if (a.remeshed.used) j.add("remesh", remeshJson(a.remeshed));
+    std::cout << j.add("command", "sweep")
                      .add("input", in)
                      .add("csv", csv)
                      .add("plot", plot)
@@ -642,6 +739,7 @@ int cmdSweep(const std::vector<std::string>& argv) {
                      .str()
               << "\n";
   } else {
+    if (a.remeshed.used) printRemesh(in, a.remeshed);
     std::printf("wrote %s (%d levels of detail)%s%s\n", csv.c_str(), t.count,
                 plot.empty() ? "" : " and ", plot.c_str());
   }
@@ -778,6 +876,32 @@ int cmdOrthogonality(const std::vector<std::string>& argv) {
                      .add("rows", rows)
                      .str()
               << "\n";
+  return 0;
+}
+
+int cmdRemesh(const std::vector<std::string>& argv) {
+  Args args("remesh", argv, {"base-faces", "levels", "feature-angle", "output", "samples", "seed"},
+            flags());
+  args.expectPositional(1, "one input mesh: osdmra remesh IN --base-faces N --levels J -o OUT");
+  const Common opt = common(args);
+  const std::string in = args.positional()[0], out = args.require("output");
+  meshFormatFromPath(out);  // refuse a bad output name before the work
+  const Remeshed r = remeshFile(in, args, opt);
+  writeMesh(out, r.result.mesh);
+  if (opt.json) {
+    std::cout << remeshJson(r)
+                     .add("command", "remesh")
+                     .add("input", in)
+                     .add("output", out)
+                     .add("levels", static_cast<int>(args.integer("levels", 5, 0, 8)))
+                     .str()
+              << "\n";
+    return 0;
+  }
+  if (r.droppedVertices > 0)
+    std::printf("%s: dropped %d unreferenced vertices\n", in.c_str(), r.droppedVertices);
+  printRemesh(in, r);
+  std::printf("wrote %s\n", out.c_str());
   return 0;
 }
 
@@ -929,6 +1053,7 @@ int dispatch(int argc, char** argv) {
   if (command == "sweep") return cmdSweep(rest);
   if (command == "orthogonality") return cmdOrthogonality(rest);
   if (command == "shape") return cmdShape(rest);
+  if (command == "remesh") return cmdRemesh(rest);
   if (command == "demo") return cmdDemo(rest);
   std::cerr << "osdmra: unknown command '" << command << "'\n\n" << kUsage;
   return 2;

@@ -216,4 +216,32 @@ void validate(const TriMesh& mesh, const std::string& source) {
     fail(nonManifoldVertexMessage(F, conn.firstNonManifoldVertex));
 }
 
+int removeUnreferencedVertices(TriMesh& mesh) {
+  const Eigen::Index n = mesh.V.rows();
+  std::vector<int> newIndex(static_cast<std::size_t>(n), -1);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k);
+      if (v < 0 || v >= n)
+        throw Error("face " + std::to_string(f) + " has vertex index " + std::to_string(v) +
+                    ", out of range");
+      newIndex[v] = 0;
+    }
+  int kept = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (newIndex[v] == 0) newIndex[v] = kept++;
+  if (kept == n) return 0;
+  Points V(kept, 3), N(mesh.N.rows() == n ? kept : 0, 3);
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (newIndex[v] >= 0) {
+      V.row(newIndex[v]) = mesh.V.row(v);
+      if (N.rows()) N.row(newIndex[v]) = mesh.N.row(v);
+    }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) mesh.F(f, k) = newIndex[mesh.F(f, k)];
+  mesh.V = std::move(V);
+  mesh.N = std::move(N);
+  return static_cast<int>(n - kept);
+}
+
 }  // namespace osdmra

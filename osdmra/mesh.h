@@ -27,6 +27,10 @@ struct TriMesh {
 /// offending face or vertex (0-based) and what is wrong with it.
 void validate(const TriMesh& mesh, const std::string& source);
 
+/// Drops vertices that no face uses (scans often carry some), renumbering the rest
+/// in their order; returns how many were dropped.
+int removeUnreferencedVertices(TriMesh& mesh);
+
 /// Diagonal of the axis-aligned bounding box (0 for an empty mesh).
 double boundingBoxDiagonal(const Points& V);
 

@@ -249,3 +249,38 @@ TEST_F(Cli, SweepWritesCsvAndPlot) {
     EXPECT_EQ(png.substr(1, 3), "PNG");
   }
 }
+
+TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
+  ASSERT_EQ(run("shape torus -o " + path("t.obj")).status, 0);
+  ASSERT_EQ(
+      run("subdivide " + path("t.obj") + " --levels 3 --displace 0.02 -o " + path("t3.obj")).status,
+      0);
+  // An unreferenced vertex is dropped, not refused.
+  { std::ofstream(path("t3.obj"), std::ios::app) << "v 9 9 9\n"; }
+  const Result r =
+      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 2 --json -o " + path("r.ply"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* key : {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
+                          "\"unreferenced_vertices_dropped\": 1"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
+  const TriMesh m = readValidMesh(path("r.ply"));
+  EXPECT_EQ(m.F.rows() % 16, 0);
+  // lod through --remesh reports the remeshing apart.
+  const Result lod = run("lod " + path("t3.obj") +
+                         " --remesh --base-faces 100 --levels 2 --budget 600 --samples 2000 "
+                         "--json -o " +
+                         path("l.obj"));
+  ASSERT_EQ(lod.status, 0) << lod.err;
+  EXPECT_NE(lod.out.find("\"remesh\": {"), std::string::npos) << lod.out;
+  // Two tetrahedra sharing one vertex: a bowtie, refused with the vertex named.
+  {
+    std::ofstream f(path("bowtie.obj"));
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
+         "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+         "f 1 6 5\nf 1 5 7\nf 1 7 6\nf 5 6 7\n";
+  }
+  const Result bad = run("remesh " + path("bowtie.obj") + " -o " + path("b.obj"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("vertex 0 is non-manifold"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("b.obj")));
+}

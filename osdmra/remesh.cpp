@@ -1,0 +1,730 @@
+#include "osdmra/remesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "osdmra/connectivity.h"
+#include "osdmra/error.h"
+
+namespace osdmra {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint64_t edgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+
+// Barycentric coordinates of p in the planar triangle (a, b, c); NaN-free for
+// degenerate triangles (all three then -1).
+std::array<double, 3> barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+  if (std::abs(det) < 1e-300) return {-1, -1, -1};
+  const double l1 = ((p.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (p.y() - a.y())) / det;
+  const double l2 = ((b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y())) / det;
+  return {1 - l1 - l2, l1, l2};
+}
+
+double minOf(const std::array<double, 3>& b) {
+  return std::min({b[0], b[1], b[2]});
+}
+
+// Clamps barycentric coordinates into the triangle.
+std::array<double, 3> clamped(std::array<double, 3> b) {
+  double sum = 0;
+  for (double& x : b) sum += x = std::max(x, 0.0);
+  if (sum <= 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  for (double& x : b) x /= sum;
+  return b;
+}
+
+double cross2(const Vec2& a, const Vec2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Triangulates a simple counter-clockwise polygon by clipping, each time, the ear
+// whose smallest angle is largest (so the new faces are as well shaped as the
+// polygon allows). Returns local index triples, counter-clockwise; empty when no
+// valid ear exists (a degenerate polygon).
+std::vector<std::array<int, 3>> earClip(const std::vector<Vec2>& p) {
+  std::vector<int> poly(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) poly[i] = static_cast<int>(i);
+  std::vector<std::array<int, 3>> out;
+  auto angle = [&](int a, int b, int c) {  // at b
+    const Vec2 u = p[a] - p[b], v = p[c] - p[b];
+    return std::atan2(std::abs(cross2(u, v)), u.dot(v));
+  };
+  while (poly.size() > 3) {
+    const int n = static_cast<int>(poly.size());
+    int best = -1;
+    double bestQuality = -1;
+    for (int i = 0; i < n; ++i) {
+      const int a = poly[(i + n - 1) % n], b = poly[i], c = poly[(i + 1) % n];
+      if (cross2(p[b] - p[a], p[c] - p[b]) <= 1e-14) continue;  // reflex or flat
+      bool empty = true;
+      for (int k = 0; k < n && empty; ++k) {
+        const int q = poly[k];
+        if (q == a || q == b || q == c) continue;
+        empty = minOf(barycentric(p[q], p[a], p[b], p[c])) < -1e-12;
+      }
+      if (!empty) continue;
+      const double quality = std::min({angle(c, a, b), angle(a, b, c), angle(b, c, a)});
+      if (quality > bestQuality) {
+        bestQuality = quality;
+        best = i;
+      }
+    }
+    if (best < 0) return {};
+    out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
+    poly.erase(poly.begin() + best);
+  }
+  if (poly.size() == 3) {
+    if (cross2(p[poly[1]] - p[poly[0]], p[poly[2]] - p[poly[0]]) <= 1e-14) return {};
+    out.push_back({poly[0], poly[1], poly[2]});
+  }
+  return out;
+}
+
+struct Param {
+  int face = -1;
+  std::array<double, 3> bary{};  // over the face's corners, in its order
+};
+
+// The mesh being simplified, with every input vertex's place on it.
+class Simplifier {
+ public:
+  Simplifier(const TriMesh& m, double featureAngle) : V_(m.V) {
+    const int n = static_cast<int>(m.V.rows());
+    faces_.reserve(2 * m.F.rows());
+    vertFaces_.resize(n);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) addFace({m.F(f, 0), m.F(f, 1), m.F(f, 2)});
+    aliveFaces_ = static_cast<int>(m.F.rows());
+    removed_.assign(n, 0);
+    param_.resize(n);
+    // Feature edges: the angle between the normals of their two faces.
+    const Connectivity c(m.F, n);
+    auto normal = [&](int f) {
+      const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), cc = m.V.row(m.F(f, 2));
+      return (b - a).cross(cc - a).normalized();
+    };
+    const double cosLimit = std::cos(featureAngle * kPi / 180.0);
+    for (int h = 0; h < 3 * c.numFaces(); ++h) {
+      const int t = c.twin(h);
+      if (t < h) continue;
+      if (normal(h / 3).dot(normal(t / 3)) < cosLimit)
+        features_.insert(edgeKey(c.from(h), c.to(h)));
+    }
+    pruneShortFeatureChains(n);
+    featureCount_ = static_cast<int>(features_.size());
+  }
+
+  // Scans carry sharp-looking noise: single edges and short chains of feature edges.
+  // A feature must be a chain of at least kMinChain edges between its ends (vertices
+  // with other than two feature edges), or a closed loop; the rest are dropped, so
+  // that they neither pin vertices in the base mesh nor bend the parameterisation.
+  void pruneShortFeatureChains(int n) {
+    constexpr int kMinChain = 4;
+    std::vector<std::vector<int>> adj(n);
+    for (std::uint64_t k : features_) {
+      const int a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
+      adj[a].push_back(b);
+      adj[b].push_back(a);
+    }
+    std::unordered_set<std::uint64_t> seen, keep;
+    auto walk = [&](int from, int next) {  // the chain from node `from` through `next`
+      std::vector<std::uint64_t> chain{edgeKey(from, next)};
+      int prev = from, at = next;
+      while (adj[at].size() == 2 && at != from) {
+        const int nxt = adj[at][0] == prev ? adj[at][1] : adj[at][0];
+        chain.push_back(edgeKey(at, nxt));
+        prev = at;
+        at = nxt;
+      }
+      return chain;
+    };
+    for (int v = 0; v < n; ++v) {
+      if (adj[v].empty() || adj[v].size() == 2) continue;  // chains start at their ends
+      for (int w : adj[v]) {
+        if (seen.count(edgeKey(v, w))) continue;
+        const std::vector<std::uint64_t> chain = walk(v, w);
+        for (std::uint64_t k : chain) seen.insert(k);
+        if (static_cast<int>(chain.size()) >= kMinChain) keep.insert(chain.begin(), chain.end());
+      }
+    }
+    for (std::uint64_t k : features_)  // closed loops: every vertex has two
+      if (!seen.count(k)) keep.insert(k);
+    features_ = std::move(keep);
+  }
+
+  int featureCount() const { return featureCount_; }
+  int aliveFaces() const { return aliveFaces_; }
+
+  void run(int target, const Progress& progress) {
+    const int start = aliveFaces_;
+    std::vector<int> stamp(V_.rows(), -1);
+    for (int round = 0; aliveFaces_ > target; ++round) {
+      // Candidates by priority: half one-ring area, half curvature (angle defect),
+      // each relative to its largest value this round.
+      struct Candidate {
+        double area, curvature;
+        int v;
+      };
+      std::vector<Candidate> cands;
+      double maxArea = 0, maxCurv = 0;
+      for (int v = 0; v < V_.rows(); ++v) {
+        Ring r;
+        if (removed_[v] || !ring(v, r) || !removable(v, r)) continue;
+        double area = 0, angles = 0;
+        const Vec3 pv = V_.row(v);
+        for (int k = 0; k < r.numFaces(); ++k) {
+          const Vec3 a = V_.row(r.verts[k]) - pv.transpose(),
+                     b = V_.row(r.verts[k + 1]) - pv.transpose();
+          area += 0.5 * a.cross(b).norm();
+          angles += std::atan2(a.cross(b).norm(), a.dot(b));
+        }
+        const double curv = std::abs((r.boundary ? kPi : 2 * kPi) - angles);
+        maxArea = std::max(maxArea, area);
+        maxCurv = std::max(maxCurv, curv);
+        cands.push_back({area, curv, v});
+      }
+      auto priority = [&](const Candidate& c) {
+        return 0.5 * c.area / std::max(maxArea, 1e-300) +
+               0.5 * c.curvature / std::max(maxCurv, 1e-300);
+      };
+      std::sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
+        const double pa = priority(a), pb = priority(b);
+        return pa != pb ? pa < pb : a.v < b.v;
+      });
+      int removedNow = 0;
+      for (const Candidate& c : cands) {
+        if (aliveFaces_ <= target) break;
+        if (stamp[c.v] == round) continue;
+        Ring r;
+        if (!ring(c.v, r)) continue;
+        if (!remove(c.v, r)) continue;
+        ++removedNow;
+        for (int w : r.verts) stamp[w] = round;
+        if (progress && removedNow % 1024 == 0)
+          progress("simplify", double(start - aliveFaces_) / std::max(1, start - target));
+      }
+      if (progress) progress("simplify", double(start - aliveFaces_) / std::max(1, start - target));
+      if (removedNow == 0) break;
+    }
+    if (progress) progress("simplify", 1.0);
+  }
+
+  // The base mesh, vertices renumbered 0..; `baseOf` maps input vertex -> base index
+  // or -1; every input vertex's parameter (face index into the result's faces).
+  void result(TriMesh& base, std::vector<int>& baseOf, std::vector<Param>& params) const {
+    const int n = static_cast<int>(V_.rows());
+    baseOf.assign(n, -1);
+    std::vector<int> faceIndex(faces_.size(), -1);
+    int nf = 0, nv = 0;
+    for (std::size_t f = 0; f < faces_.size(); ++f)
+      if (faceAlive_[f]) faceIndex[f] = nf++;
+    for (int v = 0; v < n; ++v)
+      if (!removed_[v]) baseOf[v] = nv++;
+    base.V.resize(nv, 3);
+    base.F.resize(nf, 3);
+    for (int v = 0; v < n; ++v)
+      if (baseOf[v] >= 0) base.V.row(baseOf[v]) = V_.row(v);
+    for (std::size_t f = 0; f < faces_.size(); ++f)
+      if (faceAlive_[f])
+        for (int i = 0; i < 3; ++i) base.F(faceIndex[f], i) = baseOf[faces_[f][i]];
+    params.assign(n, Param());
+    for (int v = 0; v < n; ++v) {
+      if (removed_[v]) {
+        params[v] = {faceIndex[param_[v].face], param_[v].bary};
+      } else {
+        const int f = vertFaces_[v].front();
+        Param p{faceIndex[f], {0, 0, 0}};
+        for (int i = 0; i < 3; ++i) p.bary[i] = faces_[f][i] == v ? 1.0 : 0.0;
+        params[v] = p;
+      }
+    }
+  }
+
+ private:
+  // A vertex's one-ring: verts[k] counter-clockwise, face k = (v, verts[k], verts[k+1])
+  // (indices mod the count for a closed ring; a boundary ring has one vertex more).
+  struct Ring {
+    std::vector<int> verts, faces;
+    bool boundary = false;
+    int numFaces() const { return static_cast<int>(faces.size()); }
+  };
+
+  int addFace(const std::array<int, 3>& t) {
+    const int f = static_cast<int>(faces_.size());
+    faces_.push_back(t);
+    faceAlive_.push_back(1);
+    facePoints_.emplace_back();
+    for (int v : t) vertFaces_[v].push_back(f);
+    return f;
+  }
+
+  bool ring(int v, Ring& r) const {
+    const std::vector<int>& fs = vertFaces_[v];
+    const int d = static_cast<int>(fs.size());
+    if (d == 0) return false;
+    std::vector<std::array<int, 3>> corner(d);  // next, prev, face
+    for (int k = 0; k < d; ++k) {
+      const auto& t = faces_[fs[k]];
+      const int i = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+      corner[k] = {t[(i + 1) % 3], t[(i + 2) % 3], fs[k]};
+    }
+    int start = 0, starts = 0;
+    for (int k = 0; k < d; ++k) {
+      bool ends = false;
+      for (int q = 0; q < d; ++q) ends = ends || corner[q][1] == corner[k][0];
+      if (!ends) {
+        start = k;
+        ++starts;
+      }
+    }
+    if (starts > 1) return false;
+    r.boundary = starts == 1;
+    r.verts.clear();
+    r.faces.clear();
+    int k = start;
+    for (int step = 0; step < d; ++step) {
+      r.verts.push_back(corner[k][0]);
+      r.faces.push_back(corner[k][2]);
+      int nextK = -1;
+      for (int q = 0; q < d; ++q)
+        if (corner[q][0] == corner[k][1]) nextK = q;
+      if (step + 1 < d) {
+        if (nextK < 0) return false;
+        k = nextK;
+      } else if (r.boundary) {
+        r.verts.push_back(corner[k][1]);
+      } else if (nextK != start) {
+        return false;
+      }
+    }
+    if (!r.boundary) r.verts.push_back(r.verts.front());  // verts[m] = verts[0]
+    return true;
+  }
+
+  bool isFeature(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
+
+  bool removable(int v, const Ring& r) const {
+    const int m = r.numFaces();
+    if (m < 2 || m > 24) return false;
+    int nf = 0;
+    for (int k = 0; k < m + (r.boundary ? 1 : 0); ++k) nf += isFeature(v, r.verts[k]);
+    if (r.boundary) return nf == 0 && m >= 2;
+    return m >= 3 && (nf == 0 || nf == 2);
+  }
+
+  bool hasEdge(int a, int b) const {
+    for (int f : vertFaces_[a])
+      for (int x : faces_[f])
+        if (x == b) return true;
+    return false;
+  }
+
+  bool remove(int v, Ring r) {
+    if (!removable(v, r)) return false;
+    const int m = r.numFaces();
+    const Vec3 pv = V_.row(v);
+    // Feature line through v: rotate so that verts[0] is one feature neighbour.
+    int featureAt = -1;
+    if (!r.boundary) {
+      std::vector<int> fi;
+      for (int k = 0; k < m; ++k)
+        if (isFeature(v, r.verts[k])) fi.push_back(k);
+      if (fi.size() == 2) {
+        std::rotate(r.verts.begin(), r.verts.begin() + fi[0], r.verts.begin() + m);
+        std::rotate(r.faces.begin(), r.faces.begin() + fi[0], r.faces.end());
+        r.verts[m] = r.verts[0];
+        featureAt = fi[1] - fi[0];
+        if (featureAt < 2 || m - featureAt < 2) return false;  // each side needs two faces
+      }
+    }
+    // Conformal flattening (z^a): angles scaled to 2 pi around an interior vertex, to
+    // pi on a boundary and on each side of a feature line; radii |r|^a.
+    std::vector<double> theta(m);
+    double total = 0;
+    for (int k = 0; k < m; ++k) {
+      const Vec3 a = V_.row(r.verts[k]).transpose() - pv,
+                 b = V_.row(r.verts[k + 1]).transpose() - pv;
+      theta[k] = std::atan2(a.cross(b).norm(), a.dot(b));
+      total += theta[k];
+    }
+    if (total <= 1e-12) return false;
+    const double power = (r.boundary ? kPi : 2 * kPi) / total;
+    std::vector<double> phi(m + 1, 0.0);
+    auto fill = [&](int from, int to, double startAngle, double span) {
+      double sum = 0;
+      for (int k = from; k < to; ++k) sum += theta[k];
+      double acc = startAngle;
+      for (int k = from; k < to; ++k) {
+        phi[k] = acc;
+        acc += theta[k] * span / std::max(sum, 1e-300);
+      }
+      phi[to] = acc;
+    };
+    if (featureAt >= 0) {
+      fill(0, featureAt, 0.0, kPi);
+      fill(featureAt, m, kPi, kPi);
+    } else {
+      fill(0, m, 0.0, r.boundary ? kPi : 2 * kPi);
+    }
+    std::vector<Vec2> flat(m + 1);
+    for (int k = 0; k <= m; ++k) {
+      const double rho = std::pow((V_.row(r.verts[k]).transpose() - pv).norm(), power);
+      flat[k] = rho * Vec2(std::cos(phi[k]), std::sin(phi[k]));
+    }
+    if (!r.boundary) flat[m] = flat[0];
+
+    // Retriangulate: one polygon (closed ring or boundary path) or two (the two sides
+    // of a feature line, sharing the edge between its ends).
+    std::vector<std::array<int, 3>> tris;  // ring positions
+    auto clip = [&](int from, int to) {    // polygon verts[from..to]
+      std::vector<Vec2> poly;
+      for (int k = from; k <= to; ++k) poly.push_back(flat[k]);
+      const std::vector<std::array<int, 3>> t = earClip(poly);
+      if (t.empty()) return false;
+      for (const auto& x : t) tris.push_back({x[0] + from, x[1] + from, x[2] + from});
+      return true;
+    };
+    bool ok;
+    if (featureAt >= 0)
+      ok = clip(0, featureAt) && clip(featureAt, m);
+    else
+      ok = clip(0, r.boundary ? m : m - 1);
+    if (!ok) return false;
+    auto global = [&](int k) { return r.verts[k % (r.boundary ? m + 1 : m)]; };
+    // No new edge may exist already (that would pinch the surface: a changed topology).
+    for (const auto& t : tris)
+      for (int i = 0; i < 3; ++i) {
+        const int a = global(t[i]), b = global(t[(i + 1) % 3]);
+        const int ka = t[i], kb = t[(i + 1) % 3];
+        const int lo = std::min(ka, kb), hi = std::max(ka, kb);
+        const bool ringEdge = hi - lo == 1 || (!r.boundary && lo == 0 && hi == m - 1) ||
+                              (!r.boundary && hi == m && lo == 0);
+        if (a == b) return false;
+        if (!ringEdge && hasEdge(a, b)) return false;
+      }
+
+    // Move every parameterised point of the old faces, and v itself (the origin), to
+    // the new face that contains it in the flat domain.
+    struct Moved {
+      int point;
+      Vec2 at;
+    };
+    std::vector<Moved> moving{{v, Vec2::Zero()}};
+    for (int k = 0; k < m; ++k) {
+      const int f = r.faces[k];
+      auto flatOf = [&](int x) -> Vec2 {
+        if (x == v) return Vec2::Zero();
+        return x == r.verts[k] ? flat[k] : flat[k + 1];
+      };
+      for (int p : facePoints_[f]) {
+        Vec2 at = Vec2::Zero();
+        for (int i = 0; i < 3; ++i) at += param_[p].bary[i] * flatOf(faces_[f][i]);
+        moving.push_back({p, at});
+      }
+    }
+    // Commit.
+    for (int f : r.faces) {
+      faceAlive_[f] = 0;
+      for (int x : faces_[f]) {
+        auto& list = vertFaces_[x];
+        list.erase(std::find(list.begin(), list.end(), f));
+      }
+    }
+    std::vector<int> newFaces;
+    for (const auto& t : tris)
+      newFaces.push_back(addFace({global(t[0]), global(t[1]), global(t[2])}));
+    for (const Moved& mv : moving) {
+      int best = 0;
+      std::array<double, 3> bestBary{-1e300, 0, 0};
+      for (std::size_t q = 0; q < tris.size(); ++q) {
+        const auto b = barycentric(mv.at, flat[tris[q][0]], flat[tris[q][1]], flat[tris[q][2]]);
+        if (minOf(b) > minOf(bestBary)) {
+          bestBary = b;
+          best = static_cast<int>(q);
+        }
+      }
+      param_[mv.point] = {newFaces[best], clamped(bestBary)};
+      facePoints_[newFaces[best]].push_back(mv.point);
+    }
+    for (int f : r.faces) std::vector<int>().swap(facePoints_[f]);
+    removed_[v] = 1;
+    if (featureAt >= 0) {
+      features_.erase(edgeKey(v, r.verts[0]));
+      features_.erase(edgeKey(v, r.verts[featureAt]));
+      features_.insert(edgeKey(r.verts[0], r.verts[featureAt]));
+    }
+    aliveFaces_ += static_cast<int>(tris.size()) - m;
+    return true;
+  }
+
+  const Points& V_;
+  std::vector<std::array<int, 3>> faces_;
+  std::vector<char> faceAlive_;
+  std::vector<std::vector<int>> vertFaces_, facePoints_;
+  std::vector<Param> param_;
+  std::vector<char> removed_;
+  std::unordered_set<std::uint64_t> features_;
+  int aliveFaces_ = 0, featureCount_ = 0;
+};
+
+// Planar charts of the parameter domain (the base mesh): each base face as an
+// equilateral triangle, and the faces around each base vertex spread conformally
+// over a disk (half-disk on a boundary), so that an input triangle whose corners lie
+// in different faces around that vertex has one planar image.
+class Charts {
+ public:
+  explicit Charts(const TriMesh& base)
+      : base_(base), conn_(base.F, static_cast<int>(base.V.rows())) {}
+
+  static Vec2 corner(int i) {
+    return i == 0 ? Vec2(0, 0) : i == 1 ? Vec2(1, 0) : Vec2(0.5, std::sqrt(3.0) / 2);
+  }
+  static Vec2 inFace(const std::array<double, 3>& b) {
+    return b[0] * corner(0) + b[1] * corner(1) + b[2] * corner(2);
+  }
+
+  // The point (face f, barycentric b) in the chart around base vertex w, which must
+  // be a corner of f.
+  Vec2 aroundVertex(int w, int f, const std::array<double, 3>& b) const {
+    const IndexSpan fan = conn_.fan(w);
+    int k = 0;
+    while (k < fan.size() && fan[k] / 3 != f) ++k;
+    if (k == fan.size()) return Vec2::Zero();  // not a corner of f (callers check)
+    const int i = fan[k] % 3;  // w is corner i of f; the fan's face is (w, next, prev)
+    // In the face's own frame: w at the origin, its next corner on the x axis.
+    const Vec2 q = b[(i + 1) % 3] * Vec2(1, 0) + b[(i + 2) % 3] * Vec2(0.5, std::sqrt(3.0) / 2);
+    const double r = q.norm(), theta = std::atan2(q.y(), q.x());  // theta in [0, pi/3]
+    const double span = (conn_.isBoundaryVertex(w) ? kPi : 2 * kPi) / fan.size();
+    const double angle = (k + theta / (kPi / 3)) * span;
+    return r * Vec2(std::cos(angle), std::sin(angle));
+  }
+
+  bool hasCorner(int f, int w) const {
+    return base_.F(f, 0) == w || base_.F(f, 1) == w || base_.F(f, 2) == w;
+  }
+
+ private:
+  const TriMesh& base_;
+  Connectivity conn_;
+};
+
+// Planar triangles with a uniform grid for point location.
+class TriangleGrid {
+ public:
+  void add(const std::array<Vec2, 3>& t, int id) {
+    tris_.push_back(t);
+    ids_.push_back(id);
+  }
+  void build() {
+    if (tris_.empty()) return;
+    lo_ = hi_ = tris_[0][0];
+    for (const auto& t : tris_)
+      for (const Vec2& p : t) {
+        lo_ = lo_.cwiseMin(p);
+        hi_ = hi_.cwiseMax(p);
+      }
+    n_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(tris_.size()))));
+    cells_.assign(static_cast<std::size_t>(n_) * n_, {});
+    for (std::size_t q = 0; q < tris_.size(); ++q) {
+      Vec2 a = tris_[q][0], b = a;
+      for (const Vec2& p : tris_[q]) {
+        a = a.cwiseMin(p);
+        b = b.cwiseMax(p);
+      }
+      const auto [x0, y0] = cell(a);
+      const auto [x1, y1] = cell(b);
+      for (int x = x0; x <= x1; ++x)
+        for (int y = y0; y <= y1; ++y)
+          cells_[static_cast<std::size_t>(x) * n_ + y].push_back(static_cast<int>(q));
+    }
+  }
+  // The triangle containing p (-1 if none) and its barycentric coordinates.
+  int locate(const Vec2& p, std::array<double, 3>& bary) const {
+    if (tris_.empty() || (p - p.cwiseMax(lo_)).norm() > 1e-9 || (p - p.cwiseMin(hi_)).norm() > 1e-9)
+      return -1;
+    const auto [x, y] = cell(p);
+    for (int q : cells_[static_cast<std::size_t>(x) * n_ + y]) {
+      const auto b = barycentric(p, tris_[q][0], tris_[q][1], tris_[q][2]);
+      if (minOf(b) >= -1e-9) {
+        bary = b;
+        return ids_[q];
+      }
+    }
+    return -1;
+  }
+  // The triangle nearest to containing p (largest smallest coordinate).
+  int nearest(const Vec2& p, std::array<double, 3>& bary, double& score) const {
+    int best = -1;
+    for (std::size_t q = 0; q < tris_.size(); ++q) {
+      const auto b = barycentric(p, tris_[q][0], tris_[q][1], tris_[q][2]);
+      if (minOf(b) > score) {
+        score = minOf(b);
+        bary = b;
+        best = ids_[q];
+      }
+    }
+    return best;
+  }
+
+ private:
+  std::pair<int, int> cell(const Vec2& p) const {
+    const Vec2 s = (hi_ - lo_).cwiseMax(Vec2(1e-300, 1e-300));
+    const int x = std::clamp(static_cast<int>((p.x() - lo_.x()) / s.x() * n_), 0, n_ - 1);
+    const int y = std::clamp(static_cast<int>((p.y() - lo_.y()) / s.y() * n_), 0, n_ - 1);
+    return {x, y};
+  }
+  std::vector<std::array<Vec2, 3>> tris_;
+  std::vector<int> ids_;
+  std::vector<std::vector<int>> cells_;
+  Vec2 lo_ = Vec2::Zero(), hi_ = Vec2::Zero();
+  int n_ = 1;
+};
+
+}  // namespace
+
+Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
+  if (options.baseFaces < 4) throw Error("remesh: --base-faces must be at least 4");
+  if (options.levels < 0 || options.levels > 8) throw Error("remesh: --levels must be in 0..8");
+  if (input.F.rows() < 4) throw Error("remesh: the input has fewer than 4 faces");
+  Remeshing out;
+  Simplifier s(input, options.featureAngle);
+  out.featureEdges = s.featureCount();
+  s.run(options.baseFaces, progress);
+  std::vector<int> baseOf;
+  std::vector<Param> params;
+  s.result(out.base, baseOf, params);
+
+  // Every input triangle in a chart: its base face's, when its corners' parameters
+  // share one; else the chart of a base vertex all three faces have.
+  const int nb = static_cast<int>(out.base.F.rows());
+  const Charts charts(out.base);
+  std::vector<TriangleGrid> faceGrid(nb), vertexGrid(out.base.V.rows());
+  for (Eigen::Index t = 0; t < input.F.rows(); ++t) {
+    const std::array<int, 3> v{input.F(t, 0), input.F(t, 1), input.F(t, 2)};
+    const int f0 = params[v[0]].face, f1 = params[v[1]].face, f2 = params[v[2]].face;
+    if (f0 == f1 && f1 == f2) {
+      faceGrid[f0].add({Charts::inFace(params[v[0]].bary), Charts::inFace(params[v[1]].bary),
+                        Charts::inFace(params[v[2]].bary)},
+                       static_cast<int>(t));
+      continue;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int w = out.base.F(f0, i);
+      if (!charts.hasCorner(f1, w) || !charts.hasCorner(f2, w)) continue;
+      std::array<Vec2, 3> tri;
+      for (int k = 0; k < 3; ++k)
+        tri[k] = charts.aroundVertex(w, params[v[k]].face, params[v[k]].bary);
+      vertexGrid[w].add(tri, static_cast<int>(t));
+      break;
+    }
+  }
+
+  for (auto& g : faceGrid) g.build();
+  for (auto& g : vertexGrid) g.build();
+
+  // The grid of each base face, J times split: corners are base vertices, edge
+  // points are shared with the neighbour through a key on the undirected edge.
+  const int N = 1 << options.levels;
+  const long long nbv = out.base.V.rows();
+  std::unordered_map<std::uint64_t, int> edgePoint;
+  std::vector<Vec3> positions;
+  for (int v = 0; v < nbv; ++v) positions.push_back(out.base.V.row(v).transpose());
+  std::vector<std::array<int, 3>> faces;
+  auto sample = [&](int f, const std::array<double, 3>& b) -> Vec3 {
+    std::array<double, 3> bary;
+    int t = faceGrid[f].locate(Charts::inFace(b), bary);
+    for (int i = 0; i < 3 && t < 0; ++i) {
+      const int w = out.base.F(f, i);
+      t = vertexGrid[w].locate(charts.aroundVertex(w, f, b), bary);
+    }
+    if (t < 0) {
+      ++out.snappedSamples;
+      double score = -1e300;
+      t = faceGrid[f].nearest(Charts::inFace(b), bary, score);
+      for (int i = 0; i < 3; ++i) {
+        const int w = out.base.F(f, i);
+        std::array<double, 3> b2;
+        const int t2 = vertexGrid[w].nearest(charts.aroundVertex(w, f, b), b2, score);
+        if (t2 >= 0) {
+          t = t2;
+          bary = b2;
+        }
+      }
+      if (t < 0) {  // no input triangle anywhere near: the base face's own plane
+        Vec3 p = Vec3::Zero();
+        for (int i = 0; i < 3; ++i) p += b[i] * out.base.V.row(out.base.F(f, i)).transpose();
+        return p;
+      }
+      bary = clamped(bary);
+    }
+    Vec3 p = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) p += bary[i] * input.V.row(input.F(t, i)).transpose();
+    return p;
+  };
+  for (int f = 0; f < nb; ++f) {
+    if (progress && f % 16 == 0) progress("resample", double(f) / nb);
+    const int a = out.base.F(f, 0), b = out.base.F(f, 1), c = out.base.F(f, 2);
+    std::vector<int> id((N + 1) * (N + 1), -1);
+    auto at = [&](int i, int j) -> int& { return id[i * (N + 1) + j]; };
+    for (int i = 0; i <= N; ++i)
+      for (int j = 0; i + j <= N; ++j) {
+        const std::array<double, 3> bary{double(N - i - j) / N, double(i) / N, double(j) / N};
+        int& slot = at(i, j);
+        if (i + j == 0) {
+          slot = a;
+        } else if (i == N) {
+          slot = b;
+        } else if (j == N) {
+          slot = c;
+        } else if (j == 0 || i == 0 || i + j == N) {
+          // On edge (p, q) at step s from p.
+          int p, q, step;
+          if (j == 0) {
+            p = a, q = b, step = i;
+          } else if (i == 0) {
+            p = a, q = c, step = j;
+          } else {
+            p = b, q = c, step = j;
+          }
+          if (p > q) std::swap(p, q), step = N - step;
+          const std::uint64_t key = (static_cast<std::uint64_t>(p) * nbv + q) * (N + 1) + step;
+          auto [it, fresh] = edgePoint.emplace(key, static_cast<int>(positions.size()));
+          if (fresh) positions.push_back(sample(f, bary));
+          slot = it->second;
+        } else {
+          slot = static_cast<int>(positions.size());
+          positions.push_back(sample(f, bary));
+        }
+      }
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; i + j < N; ++j) {
+        faces.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+        if (i + j + 1 < N) faces.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  }
+  if (progress) progress("resample", 1.0);
+  out.mesh.V.resize(static_cast<Eigen::Index>(positions.size()), 3);
+  for (std::size_t v = 0; v < positions.size(); ++v) out.mesh.V.row(v) = positions[v].transpose();
+  out.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
+  return out;
+}
+
+}  // namespace osdmra

@@ -1,0 +1,61 @@
+// Remeshing: any manifold triangle mesh to a mesh with subdivision connectivity, in
+// the spirit of MAPS (Lee, Sweldens, Schroder, Cowsar and Dobkin 1998).
+//
+// 1. Simplification with a parameterisation. Vertices are removed in rounds of
+//    independent sets, least important first (small one-ring area and curvature).
+//    Each removal flattens the vertex's one-ring conformally (the z^a map: angles
+//    scaled to sum to 2 pi, or pi on each side of a boundary or a feature line),
+//    retriangulates the flat polygon, and moves every input vertex that lived in the
+//    removed faces (and the removed vertex itself) to its barycentric place in the
+//    new faces. A removal that would create an edge the mesh already has is skipped,
+//    so genus, boundary loops and components are kept. Feature edges (dihedral angle
+//    above a threshold) are kept as edges: a vertex on a feature line is removed as
+//    two half-disks whose retriangulations share the edge between its two feature
+//    neighbours; corners of features are never removed. The result is a base mesh
+//    M^0 of about the requested size, every input vertex at a point of it.
+// 2. Resampling. Each base face is split J times (a regular grid of 2^J segments per
+//    edge); every grid point is located in the parameterised input (an input
+//    triangle whose parameter image contains it, in the chart of its base face or,
+//    for input triangles that straddle base faces, in the conformal chart around a
+//    shared base vertex) and placed at the corresponding point of the input surface.
+//
+// The output has subdivision connectivity in its own vertex and face order: the
+// rest of osdmra recovers its structure (recovery.h).
+#pragma once
+
+#include <string>
+
+#include "osdmra/mesh.h"
+#include "osdmra/progress.h"
+
+namespace osdmra {
+
+struct RemeshOptions {
+  /// Target number of base faces: simplification stops at or just below it, or
+  /// earlier when no vertex can be removed without changing the topology.
+  int baseFaces = 300;
+  /// Rounds of 1-to-4 splitting of the base mesh.
+  int levels = 5;
+  /// Edges whose dihedral angle (between face normals) exceeds this, in degrees,
+  /// are features that stay edges of the base mesh, if they form chains of at least
+  /// 4 edges (shorter ones on scans are noise). 180 turns features off. 70 was best
+  /// over the four scans of docs/REMESH.md (60 pins noisy creases of the bunny).
+  double featureAngle = 70.0;
+};
+
+struct Remeshing {
+  TriMesh mesh;          ///< the remeshed surface: M^levels over `base`, positions on the input
+  TriMesh base;          ///< the base mesh M^0 (its vertices are input vertices)
+  int featureEdges = 0;  ///< input edges taken as features
+  /// Grid points whose parameter fell outside every input triangle image and were
+  /// snapped to the nearest one (a measure of parameterisation trouble; 0 is ideal).
+  int snappedSamples = 0;
+};
+
+/// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).
+/// Throws Error when the mesh cannot be simplified to any base at all (fewer than
+/// 4 faces, say) or when options are out of range.
+Remeshing remesh(const TriMesh& input, const RemeshOptions& options = {},
+                 const Progress& progress = {});
+
+}  // namespace osdmra

@@ -1,0 +1,133 @@
+// Remeshing to subdivision connectivity (remesh.h): topology kept, the result has
+// exactly the requested structure, every sample lies on the input, and the distance
+// to the input stays within stated bounds on smooth shapes of genus 0, 1 and 2, open
+// and closed.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "osdmra/connectivity.h"
+#include "osdmra/distance.h"
+#include "osdmra/error.h"
+#include "osdmra/recovery.h"
+#include "osdmra/remesh.h"
+#include "osdmra/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+// A shape refined by Loop subdivision, lightly displaced, then with its faces and
+// vertices shuffled so that it has no visible structure left to exploit.
+TriMesh smoothInput(const TriMesh& base, int levels, std::uint64_t seed) {
+  TriMesh m = subdivide(base, levels, Scheme::Loop, 0.01, static_cast<int>(seed));
+  std::mt19937_64 rng(seed);
+  std::vector<int> perm(m.V.rows());
+  for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<int>(i);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  TriMesh out{Points(m.V.rows(), 3), Faces(m.F.rows(), 3), Points()};
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) out.V.row(perm[v]) = m.V.row(v);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) out.F(f, k) = perm[m.F(f, k)];
+  return out;
+}
+
+struct Topology {
+  int euler, loops, components;
+};
+Topology topology(const TriMesh& m) {
+  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
+  return {c.eulerCharacteristic(), c.numBoundaryLoops(), c.numComponents()};
+}
+
+}  // namespace
+
+TEST(Remesh, KeepsTopologyAndStaysClose) {
+  struct Case {
+    const char* name;
+    TriMesh base;
+    int levels;
+  };
+  const Case cases[] = {{"sphere-like (icosahedron)", shapes::icosahedron(), 4},
+                        {"torus", shapes::torus(), 3},
+                        {"genus 2", shapes::slab(2), 3},
+                        {"open disc", shapes::disc(), 4},
+                        {"cylinder (two boundary loops)", shapes::cylinder(), 3}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const TriMesh input = smoothInput(c.base, c.levels, 7);
+    validate(input, c.name);
+    RemeshOptions o;
+    o.baseFaces = std::max(40, static_cast<int>(input.F.rows() / 16));
+    o.levels = 3;
+    const Remeshing r = remesh(input, o);
+    validate(r.mesh, "remeshed");
+    validate(r.base, "base");
+    // Topology: genus, boundary loops and components.
+    const Topology a = topology(input), b = topology(r.mesh), base = topology(r.base);
+    EXPECT_EQ(b.euler, a.euler);
+    EXPECT_EQ(b.loops, a.loops);
+    EXPECT_EQ(b.components, a.components);
+    EXPECT_EQ(base.euler, a.euler);
+    // The base is about the size asked for and the result is its J-fold split.
+    EXPECT_LE(r.base.F.rows(), o.baseFaces);
+    EXPECT_GT(r.base.F.rows(), o.baseFaces / 2);
+    EXPECT_EQ(r.mesh.F.rows(), r.base.F.rows() << (2 * o.levels));
+    const Recovery rec = recoverSubdivision(r.mesh.F, static_cast<int>(r.mesh.V.rows()));
+    EXPECT_GE(rec.levels, o.levels) << describe(rec);
+    // Close to the input, relative to the bounding-box diagonal.
+    DistanceOptions d;
+    d.samples = 20000;
+    const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
+    EXPECT_LT(dist.rmsRelative, 2e-3) << dist.rmsRelative;
+    EXPECT_LT(dist.hausdorffRelative, 2e-2) << dist.hausdorffRelative;
+    // Every base vertex is an input vertex, in place.
+    for (Eigen::Index v = 0; v < r.base.V.rows(); ++v) {
+      double nearest = 1e300;
+      for (Eigen::Index u = 0; u < input.V.rows(); ++u)
+        nearest = std::min(nearest, (input.V.row(u) - r.base.V.row(v)).norm());
+      EXPECT_EQ(nearest, 0.0);
+    }
+  }
+}
+
+TEST(Remesh, SharpFeatureEdgesStayEdges) {
+  // A cube refined linearly (flat faces, 90 degree edges): its edges are features,
+  // so the base mesh follows them and the remeshed surface stays much closer to the
+  // cube than without features (what is left comes from samples near an edge that
+  // land across it).
+  TriMesh cube;
+  cube.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) cube.V.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
+  cube.F.resize(12, 3);
+  cube.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4,
+      6, 1, 3, 5, 3, 7, 5;
+  validate(cube, "cube");
+  const TriMesh input = subdivide(cube, 4, Scheme::Linear);
+  RemeshOptions o;
+  o.baseFaces = 100;
+  o.levels = 3;
+  const Remeshing r = remesh(input, o);
+  EXPECT_GE(r.featureEdges, 12 * 16);
+  validate(r.mesh, "remeshed cube");
+  DistanceOptions d;
+  d.samples = 20000;
+  const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
+  o.featureAngle = 180;  // features off: the cube's edges get cut
+  const Remeshing smooth = remesh(input, o);
+  EXPECT_EQ(smooth.featureEdges, 0);
+  const SurfaceDistance cut = surfaceDistance(smooth.mesh, input, d);
+  EXPECT_LT(dist.hausdorffRelative, 2e-3) << dist.hausdorffRelative;
+  EXPECT_LT(4 * dist.hausdorffRelative, cut.hausdorffRelative)
+      << dist.hausdorffRelative << " with features, " << cut.hausdorffRelative << " without";
+}
+
+TEST(Remesh, RejectsBadOptions) {
+  const TriMesh ico = shapes::icosahedron();
+  RemeshOptions o;
+  o.baseFaces = 2;
+  EXPECT_THROW(remesh(ico, o), Error);
+  o.baseFaces = 10;
+  o.levels = 9;
+  EXPECT_THROW(remesh(ico, o), Error);
+}
