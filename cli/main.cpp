@@ -82,7 +82,9 @@ commands:
   shape NAME -o OUT            write a built-in base mesh (tetrahedron, octahedron,
                                icosahedron, torus, genus2, genus3, disc, cylinder,
                                valences)
-  demo [--out DIR]             the paper's example on the bundled scanned head: analyse
+  demo [IN] [--out DIR] [--remesh ...]
+                               the paper's example on the bundled scanned head (or IN,
+                               remeshed first with --remesh as for analyze): analyse
                                and rebuild it, levels of detail of 4,054, 12,310 and
                                16,098 triangles, their errors, error-against-triangles
                                sweeps and plots, all written to DIR (default out/)
@@ -931,13 +933,21 @@ int cmdShape(const std::vector<std::string>& argv) {
 // 16,098 triangles), measure their errors, sweep the whole range, and write it all
 // to --out (default out/).
 int cmdDemo(const std::vector<std::string>& argv) {
-  Args args("demo", argv, {"rings", "out", "samples", "seed", "points"}, flags());
-  args.expectPositional(0, "no positional arguments");
+  Args args("demo", argv,
+            {"rings", "out", "samples", "seed", "points", "base-faces", "levels", "feature-angle"},
+            flags({"remesh"}));
+  if (args.positional().size() > 1)
+    throw Error("demo: at most one input mesh (default: the bundled head)");
+  if (args.has("levels") && !args.has("remesh"))
+    throw Error("demo: --levels sets the remeshing's levels; it needs --remesh");
   const Common opt = common(args);
-  const std::string in = bundledDataPath();
+  const bool bundled = args.positional().empty();
+  const std::string in = bundled ? bundledDataPath() : args.positional()[0];
+  const std::string stem = bundled ? "igea" : std::filesystem::path(in).stem().string();
   const std::filesystem::path outDir = args.get("out", "out");
+  Remeshed remeshed;
+  const TriMesh mesh = readSurface(in, args, opt, remeshed);
   std::filesystem::create_directories(outDir);
-  const TriMesh mesh = readValidMesh(in);
   const double diag = boundingBoxDiagonal(mesh.V);
   const DistanceOptions dist = distanceOptions(args);
   const int points = static_cast<int>(args.integer("points", 16, 2, 1000));
@@ -948,21 +958,38 @@ int cmdDemo(const std::vector<std::string>& argv) {
 
   Json runs = Json::array();
   std::ostringstream md;
-  md << "# Levels of detail of the bundled head\n\n"
+  const std::string structure = describe(canonicalSurface(mesh).recovery);
+  md << "# Levels of detail of " << (bundled ? "the bundled head" : "`" + in + "`") << "\n\n"
      << "`osdmra demo`: `" << std::filesystem::path(in).filename().string() << "`, "
-     << mesh.F.rows()
-     << " triangles, 6 levels over an octahedron; quasi-wavelets with r = " << w.rings
+     << mesh.F.rows() << " triangles" << (remeshed.used ? " after remeshing" : "") << ", "
+     << structure << "; quasi-wavelets with r = " << w.rings
      << "; coefficients kept by importance |d| ||psi||. Errors are relative to the "
      << "bounding-box diagonal of the full-resolution surface: the exact parametric L2 error as "
      << "an RMS over the domain, and the sampled symmetric RMS and Hausdorff distances ("
      << dist.samples << " samples per surface plus all vertices, seed " << dist.seed << ").\n\n"
      << "| scheme | budget | triangles | coefficients kept | parametric L2 (RMS) | sampled RMS "
         "| Hausdorff | extraction (s) |\n|---|---|---|---|---|---|---|---|\n";
-  if (!opt.json)
+  if (remeshed.used) {
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "Remeshing (reported apart from the truncation, which is measured against the "
+                  "remeshed surface): %d input faces to %d over a base of %d, distance to the "
+                  "input RMS %.3e and Hausdorff %.3e of its diagonal, %.2f s.\n\n",
+                  remeshed.inputFaces, static_cast<int>(remeshed.result.mesh.F.rows()),
+                  static_cast<int>(remeshed.result.base.F.rows()), remeshed.distance.rmsRelative,
+                  remeshed.distance.hausdorffRelative, remeshed.seconds);
+    const std::string text = md.str();
+    const std::size_t table = text.find("| scheme |");
+    md.str(text.substr(0, table) + line + text.substr(table));
+    md.seekp(0, std::ios::end);
+  }
+  if (!opt.json) {
+    if (remeshed.used) printRemesh(in, remeshed);
     std::printf("%s: %d vertices, %d faces\n", in.c_str(), static_cast<int>(mesh.V.rows()),
                 static_cast<int>(mesh.F.rows()));
+  }
   for (Scheme scheme : {Scheme::Loop, Scheme::Linear}) {
-    const Analysed a = analysed(mesh, in, 6, scheme, w, ApproximationOptions{}, opt.progress);
+    const Analysed a = analysed(mesh, in, -1, scheme, w, ApproximationOptions{}, opt.progress);
     const auto t0 = Clock::now();
     const Points back = synthesize(*a.bank, *a.d, a.d->levels);
     const double tS = seconds(t0);
@@ -977,8 +1004,8 @@ int cmdDemo(const std::vector<std::string>& argv) {
       const auto t1 = Clock::now();
       const Approximation x = a.approx->budget(budget);
       const LodReport r = report(a, x, seconds(t1), dist);
-      const std::filesystem::path file = outDir / ("igea-" + std::string(schemeName(scheme)) + "-" +
-                                                   std::to_string(budget) + ".obj");
+      const std::filesystem::path file = outDir / (stem + "-" + std::string(schemeName(scheme)) +
+                                                   "-" + std::to_string(budget) + ".obj");
       writeMesh(file.string(), x.mesh);
       char row[512];
       std::snprintf(row, sizeof row,
@@ -994,7 +1021,9 @@ int cmdDemo(const std::vector<std::string>& argv) {
     const SweepTable t = sweepTable(a, points, dist, opt.progress);
     const std::string base = (outDir / ("sweep-" + std::string(schemeName(scheme)))).string();
     writeTextFile(base + ".csv", t.csv);
-    if (gnuplot) plotSweep(base + ".csv", base + ".png", "igea-oct6.obj", schemeName(scheme));
+    if (gnuplot)
+      plotSweep(base + ".csv", base + ".png", std::filesystem::path(in).filename().string(),
+                schemeName(scheme));
     if (!opt.json)
       std::printf("  error against triangles: %s.csv%s\n", base.c_str(),
                   gnuplot ? (" and " + base + ".png").c_str() : " (no gnuplot: no plot)");
@@ -1010,17 +1039,19 @@ int cmdDemo(const std::vector<std::string>& argv) {
   }
   const std::string table = (outDir / "errors.md").string();
   writeTextFile(table, md.str());
-  if (opt.json)
-    std::cout << Json::object()
-                     .add("command", "demo")
+  if (opt.json) {
+    Json j = Json::object();
+    if (remeshed.used) j.add("remesh", remeshJson(remeshed));
+    std::cout << j.add("command", "demo")
                      .add("input", in)
                      .add("out", outDir.string())
                      .add("table", table)
                      .add("runs", runs)
                      .str()
               << "\n";
-  else
+  } else {
     std::printf("\nerror table: %s\nall outputs in %s/\n", table.c_str(), outDir.string().c_str());
+  }
   return 0;
 }
 

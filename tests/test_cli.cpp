@@ -272,6 +272,13 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
                          path("l.obj"));
   ASSERT_EQ(lod.status, 0) << lod.err;
   EXPECT_NE(lod.out.find("\"remesh\": {"), std::string::npos) << lod.out;
+  // So does the demo, on any mesh.
+  const Result demo =
+      run("demo " + path("t3.obj") +
+          " --remesh --base-faces 100 --levels 2 --points 3 --samples 500 --out " + path("demo"));
+  ASSERT_EQ(demo.status, 0) << demo.err;
+  EXPECT_NE(slurp(path("demo/errors.md")).find("Remeshing"), std::string::npos);
+  EXPECT_TRUE(fs::exists(path("demo/t3-loop-4054.obj")));
   // Two tetrahedra sharing one vertex: a bowtie, refused with the vertex named.
   {
     std::ofstream f(path("bowtie.obj"));

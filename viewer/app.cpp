@@ -47,7 +47,28 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   auto a = std::make_shared<Analysis>();
   a->request = request;
   report("reading", 0);
-  const osdmra::TriMesh mesh = osdmra::readValidMesh(request.path);
+  osdmra::TriMesh mesh;
+  if (request.remesh) {
+    osdmra::TriMesh input = osdmra::readMesh(request.path);
+    osdmra::removeUnreferencedVertices(input);
+    osdmra::validate(input, request.path);
+    osdmra::Remeshing r;
+    try {
+      r = osdmra::remesh(input, request.remeshOptions, progress);
+    } catch (const osdmra::Error& e) {
+      throw osdmra::Error(request.path + ": " + e.what());
+    }
+    report("measuring the remeshing", 0);
+    osdmra::DistanceOptions o;
+    o.samples = 100000;
+    const osdmra::SurfaceDistance sd = osdmra::surfaceDistance(r.mesh, input, o);
+    a->remeshBaseFaces = static_cast<int>(r.base.F.rows());
+    a->remeshRms = sd.rmsRelative;
+    a->remeshHausdorff = sd.hausdorffRelative;
+    mesh = std::move(r.mesh);
+  } else {
+    mesh = osdmra::readValidMesh(request.path);
+  }
   report("recovering the subdivision structure", 0);
   try {
     a->surface = std::make_unique<osdmra::CanonicalSurface>(osdmra::canonicalSurface(mesh));

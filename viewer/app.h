@@ -21,6 +21,7 @@
 #include "osdmra/approximation.h"
 #include "osdmra/distance.h"
 #include "osdmra/recovery.h"
+#include "osdmra/remesh.h"
 #include "renderer.h"
 #include "smooth.h"
 
@@ -31,8 +32,14 @@ struct AnalysisRequest {
   std::string path;
   osdmra::Scheme scheme = osdmra::Scheme::Loop;
   int rings = 1;
+  /// Bring a mesh without subdivision connectivity to it first (osdmra remesh).
+  bool remesh = false;
+  osdmra::RemeshOptions remeshOptions;
   bool operator==(const AnalysisRequest& o) const {
-    return path == o.path && scheme == o.scheme && rings == o.rings;
+    return path == o.path && scheme == o.scheme && rings == o.rings && remesh == o.remesh &&
+           (!remesh || (remeshOptions.baseFaces == o.remeshOptions.baseFaces &&
+                        remeshOptions.levels == o.remeshOptions.levels &&
+                        remeshOptions.featureAngle == o.remeshOptions.featureAngle));
   }
 };
 
@@ -48,6 +55,10 @@ struct Analysis {
   double diagonal = 0;                           ///< of the full surface's bounding box
   double minImportance = 0, maxImportance = 0;   ///< range of the epsilon slider
   double seconds = 0;
+  /// With request.remesh: the remeshing's base faces and its distance to the input
+  /// file (relative to the input's bounding-box diagonal), apart from truncation.
+  int remeshBaseFaces = 0;
+  double remeshRms = NAN, remeshHausdorff = NAN;
   int levels() const { return d->levels; }
   int inputTriangles() const { return surface->hierarchy.numFaces(d->levels); }
 };

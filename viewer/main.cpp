@@ -42,6 +42,9 @@ const char* kUsage =
     "  --epsilon E         keep coefficients of importance >= E instead of a budget\n"
     "  --scheme S          loop (default) or linear (polyhedral)\n"
     "  --rings R           quasi-wavelet rings, 0..4 (default 1)\n"
+    "  --remesh            MESH has no subdivision connectivity: remesh it first\n"
+    "                      (osdmra remesh) with --base-faces N (default 300),\n"
+    "                      --levels J (default 5) and --feature-angle A (default 70)\n"
     "  --view V            front (default), side, top or iso\n"
     "  --color C           plain (default), level or error\n"
     "  --error-scale P     error colouring: red at P percent of the diagonal (default 0.2)\n"
@@ -128,6 +131,14 @@ Options parse(int argc, char** argv) {
       }
     } else if (a == "--rings") {
       o.request.rings = static_cast<int>(integer(a, value(), 0, 4));
+    } else if (a == "--remesh") {
+      o.request.remesh = true;
+    } else if (a == "--base-faces") {
+      o.request.remeshOptions.baseFaces = static_cast<int>(integer(a, value(), 4, 1 << 24));
+    } else if (a == "--levels") {
+      o.request.remeshOptions.levels = static_cast<int>(integer(a, value(), 0, 8));
+    } else if (a == "--feature-angle") {
+      o.request.remeshOptions.featureAngle = real(a, value());
     } else if (a == "--view") {
       const std::string s = value();
       if (!viewer::parseView(s, o.view))
@@ -285,6 +296,10 @@ int headless(const Options& o) {
         o.screenshot.c_str(), lod.approx.triangles(), a->inputTriangles(), lod.approx.kept,
         lod.approx.total, lod.l2Relative,
         draw.smooth ? (", smooth: " + session.smoothStatus()).c_str() : "");
+    if (a->request.remesh)
+      std::printf("remeshed over %d base faces: distance to %s RMS %.3g, Hausdorff %.3g of its "
+                  "diagonal\n",
+                  a->remeshBaseFaces, a->request.path.c_str(), a->remeshRms, a->remeshHausdorff);
   }
   glfwDestroyWindow(window);
   glfwTerminate();
@@ -535,6 +550,10 @@ void panel(Ui& ui, viewer::Session& s, viewer::AnalysisWorker& worker,
                      osdmra::describe(a->surface->recovery).c_str(),
                      a->bank->scheme == osdmra::Scheme::Loop ? "Loop" : "polyhedral",
                      a->bank->wavelets.rings, a->seconds);
+  if (a->request.remesh)
+    ImGui::TextWrapped("remeshed over %d base faces; distance to the file: RMS %.2g, Hausdorff "
+                       "%.2g of its diagonal",
+                       a->remeshBaseFaces, a->remeshRms, a->remeshHausdorff);
 
   // Level of detail: either slider re-extracts as it moves.
   ImGui::Separator();
