@@ -139,16 +139,20 @@ void seedCoefficient(const Hierarchy& h, Closure& closure, int j, int e) {
   closure.seed(j, ab[0], ab[1]);
 }
 
-}  // namespace
-
-LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
+// The closure of every coefficient `keep` holds.
+void closeMask(const Hierarchy& h, const KeepMask& keep, Closure& closure) {
   checkMask(h, keep);
-  const int J = h.levels();
-  Closure closure(h);
-  for (int j = 0; j < J; ++j)
+  for (int j = 0; j < h.levels(); ++j)
     for (std::size_t e = 0; e < keep[j].size(); ++e)
       if (keep[j][e]) seedCoefficient(h, closure, j, static_cast<int>(e));
   closure.close();
+}
+
+}  // namespace
+
+LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
+  Closure closure(h);
+  closeMask(h, keep, closure);
 
   // Walk down from the base faces through red faces only, children in order, so the
   // output is in canonical order (everything kept gives faces(J) row for row) and
@@ -209,18 +213,10 @@ LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
   return out;
 }
 
-}  // namespace osdmra
-
-namespace osdmra {
-
 KeepMask saturate(const Hierarchy& h, const KeepMask& keep) {
-  checkMask(h, keep);
-  const int J = h.levels();
   Closure closure(h);
-  for (int j = 0; j < J; ++j)
-    for (std::size_t e = 0; e < keep[j].size(); ++e)
-      if (keep[j][e]) seedCoefficient(h, closure, j, static_cast<int>(e));
-  closure.close();
+  closeMask(h, keep, closure);
+  const int J = h.levels();
   // A coefficient whose edge has every face split already is free: seeding it marks
   // nothing new, so the closure, and with it the mesh, stay the same.
   KeepMask out = keep;
