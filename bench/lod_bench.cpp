@@ -2,6 +2,8 @@
 // run:
 //   recovery of subdivision connectivity against reading the same mesh from an ASCII
 //   OBJ file (2,097,152 faces, shuffled vertex and face order);
+//   remeshing a 40,962-vertex surface without subdivision connectivity (J = 5 over
+//   about 300 base faces) beside meshoptimizer simplifying it to the same base size;
 //   re-extraction of a level of detail from an analysed surface (Approximator::budget)
 //   against meshoptimizer's simplifier (meshopt_simplify) at the same triangle counts,
 //   on a semi-regular input of 524,288 faces: the bundled head refined twice more by
@@ -20,6 +22,7 @@
 #include "osdmra/distance.h"
 #include "osdmra/io.h"
 #include "osdmra/recovery.h"
+#include "osdmra/remesh.h"
 #include "osdmra/shapes.h"
 
 using namespace osdmra;
@@ -185,6 +188,51 @@ int printTable() {
   return 0;
 }
 
+// A bumpy closed surface of 40,962 vertices without subdivision connectivity in its
+// order (shuffled), the size of the remesher's target (a 35,000-vertex scan in 30 s).
+const TriMesh& remeshInput() {
+  static const TriMesh m = shuffled(subdivide(shapes::icosahedron(), 6, Scheme::Loop, 0.02, 4), 9);
+  return m;
+}
+
+void bmRemesh(benchmark::State& state) {
+  RemeshOptions o;
+  o.baseFaces = 300;
+  o.levels = 5;
+  Remeshing r;
+  for (auto _ : state) {
+    r = remesh(remeshInput(), o);
+    benchmark::DoNotOptimize(r);
+  }
+  DistanceOptions d;
+  d.samples = 100000;
+  const SurfaceDistance sd = surfaceDistance(r.mesh, remeshInput(), d);
+  state.counters["base_faces"] = static_cast<double>(r.base.F.rows());
+  state.counters["faces"] = static_cast<double>(r.mesh.F.rows());
+  state.counters["rms_rel"] = sd.rmsRelative;
+  state.counters["hausdorff_rel"] = sd.hausdorffRelative;
+}
+
+// The peer: meshoptimizer simplifying the same mesh to the same base size, which
+// gives a coarse mesh but no parameterisation and no remeshed surface.
+void bmMeshoptToBase(benchmark::State& state) {
+  const TriMesh& m = remeshInput();
+  std::vector<float> positions;
+  std::vector<unsigned> indices, out(3 * m.F.rows());
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(m.V(i, k)));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<unsigned>(m.F(f, k)));
+  std::size_t count = 0;
+  for (auto _ : state) {
+    float error = 0;
+    count = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
+                             positions.size() / 3, 3 * sizeof(float), 3 * 300, 1.0f, 0, &error);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["faces"] = static_cast<double>(count / 3);
+}
+
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "--table") return printTable();
   benchmark::RegisterBenchmark("Recovery/ReadAsciiObj/faces:2097152", bmReadObj)
@@ -196,6 +244,12 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Iterations(5);
+  benchmark::RegisterBenchmark("Remesh/Remesh/vertices:40962", bmRemesh)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
+  benchmark::RegisterBenchmark("Remesh/MeshoptSimplifyToBase/vertices:40962", bmMeshoptToBase)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
   for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
     benchmark::RegisterBenchmark(
         (std::string("Lod/ApproximatorSetup/") + schemeName(scheme)).c_str(), bmApproximatorSetup,
