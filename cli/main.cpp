@@ -290,6 +290,8 @@ Json remeshJson(const Remeshed& r) {
       .add("base_faces", static_cast<int>(r.result.base.F.rows()))
       .add("faces", static_cast<int>(r.result.mesh.F.rows()))
       .add("snapped_samples", r.result.snappedSamples)
+      .add("flipped_triangles", r.result.flippedTriangles)
+      .add("degenerate_triangles", r.result.degenerateTriangles)
       .add("rms_relative", r.distance.rmsRelative)
       .add("hausdorff_relative", r.distance.hausdorffRelative)
       .add("seconds", r.seconds);

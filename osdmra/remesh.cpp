@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "osdmra/connectivity.h"
+#include "osdmra/distance.h"
 #include "osdmra/error.h"
 
 namespace osdmra {
@@ -175,6 +176,8 @@ class Simplifier {
   }
 
   int featureCount() const { return featureCount_; }
+  /// Whether the edge between input vertices a and b is a feature (now).
+  bool featureEdge(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   int aliveFaces() const { return aliveFaces_; }
 
   void run(int target, const Progress& progress) {
@@ -561,6 +564,15 @@ class Charts {
     return out;
   }
 
+  // Whether base vertices a and b span a boundary edge.
+  bool boundaryEdge(int a, int b) const {
+    for (int h : conn_.fan(a))
+      if (conn_.to(h) == b) return conn_.twin(h) < 0;
+    for (int h : conn_.fan(b))
+      if (conn_.to(h) == a) return conn_.twin(h) < 0;
+    return false;
+  }
+
   bool hasCorner(int f, int w) const {
     return base_.F(f, 0) == w || base_.F(f, 1) == w || base_.F(f, 2) == w;
   }
@@ -646,6 +658,114 @@ class TriangleGrid {
   Vec2 lo_ = Vec2::Zero(), hi_ = Vec2::Zero();
   int n_ = 1;
 };
+
+// A point of the input: triangle and barycentric coordinates (triangle -1: none).
+struct Where {
+  int triangle = -1;
+  std::array<double, 3> bary{};
+};
+
+// Step 3 of remesh.h. The orientation a grid triangle should have is the input's
+// where its corners were sampled (area-weighted vertex normals interpolated there),
+// which is unambiguous even on thin parts, where the nearest input point may lie on
+// the other side. Free grid points around bad triangles move to the input point
+// nearest to their neighbours' centroid, unless that point faces the other way.
+void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
+              std::vector<Where>& where, const Progress& progress) {
+  const TriangleBvh bvh(input);
+  const double diag = boundingBoxDiagonal(input.V);
+  const double tinyArea = 1e-14 * diag * diag;
+  TriMesh& m = out.mesh;
+  const VertexRings rings(m.F, static_cast<int>(m.V.rows()));
+  auto inputNormal = [&](int t) {
+    const Vec3 a = input.V.row(input.F(t, 0)), b = input.V.row(input.F(t, 1)),
+               c = input.V.row(input.F(t, 2));
+    return Vec3((b - a).cross(c - a));
+  };
+  Points vertexNormals = Points::Zero(input.V.rows(), 3);
+  for (Eigen::Index t = 0; t < input.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k)
+      vertexNormals.row(input.F(t, k)) += inputNormal(static_cast<int>(t)).transpose();
+  auto reference = [&](int v) {
+    const Where& w = where[v];
+    Vec3 n = Vec3::Zero();
+    if (w.triangle >= 0)
+      for (int k = 0; k < 3; ++k)
+        n += std::max(w.bary[k], 0.0) * vertexNormals.row(input.F(w.triangle, k)).transpose();
+    return n;
+  };
+  auto bad = [&](Eigen::Index f, bool& degenerate) {
+    const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    const Vec3 n = (b - a).cross(c - a);
+    degenerate = n.norm() <= tinyArea;
+    if (degenerate) return true;
+    return n.dot(reference(m.F(f, 0)) + reference(m.F(f, 1)) + reference(m.F(f, 2))) <= 0;
+  };
+  std::vector<Eigen::Index> suspects(static_cast<std::size_t>(m.F.rows()));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) suspects[f] = f;
+  constexpr int kRounds = 12;
+  std::vector<int> stamp(m.V.rows(), -1), near(m.V.rows(), -1);
+  for (int round = 0;; ++round) {
+    if (progress) progress("clean-up", std::min(1.0, double(round) / kRounds));
+    std::vector<Eigen::Index> still;
+    out.flippedTriangles = out.degenerateTriangles = 0;
+    for (Eigen::Index f : suspects) {
+      bool degenerate = false;
+      if (!bad(f, degenerate)) continue;
+      still.push_back(f);
+      ++(degenerate ? out.degenerateTriangles : out.flippedTriangles);
+    }
+    if (still.empty() || round == kRounds) break;
+    // The free corners of bad triangles and their free neighbours move together.
+    std::vector<int> moving;
+    auto add = [&](int v) {
+      if (free[v] && stamp[v] != round) {
+        stamp[v] = round;
+        moving.push_back(v);
+      }
+    };
+    for (Eigen::Index f : still)
+      for (int k = 0; k < 3; ++k) {
+        add(m.F(f, k));
+        for (int w : rings.ring(m.F(f, k))) add(w);
+      }
+    std::vector<Vec3> to(moving.size());
+    std::vector<Where> at(moving.size());
+    for (std::size_t i = 0; i < moving.size(); ++i) {
+      Vec3 c = Vec3::Zero();
+      const IndexSpan ring = rings.ring(moving[i]);
+      for (int w : ring) c += m.V.row(w).transpose();
+      const ClosestPoint cp = bvh.closestPoint(c / std::max(1, ring.size()));
+      if (inputNormal(cp.face).dot(reference(moving[i])) <= 0) continue;  // the far side
+      // Barycentric coordinates of the closest point in its triangle.
+      const Vec3 a = input.V.row(input.F(cp.face, 0)),
+                 e1 = input.V.row(input.F(cp.face, 1)) - a.transpose(),
+                 e2 = input.V.row(input.F(cp.face, 2)) - a.transpose(), d = cp.point - a;
+      const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2),
+                   det = d11 * d22 - d12 * d12;
+      if (!(det > 0)) continue;
+      const double u = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
+      const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
+      to[i] = cp.point;
+      at[i] = {cp.face, {1 - u - w, u, w}};
+    }
+    for (std::size_t i = 0; i < moving.size(); ++i)
+      if (at[i].triangle >= 0) {
+        m.V.row(moving[i]) = to[i].transpose();
+        where[moving[i]] = at[i];
+      }
+    // Next round: the triangles around what moved, and those still bad.
+    for (int v : moving)
+      for (int w : rings.ring(v)) near[w] = round;
+    for (Eigen::Index f : still)
+      for (int k = 0; k < 3; ++k) near[m.F(f, k)] = round;
+    suspects.clear();
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+      if (near[m.F(f, 0)] == round || near[m.F(f, 1)] == round || near[m.F(f, 2)] == round)
+        suspects.push_back(f);
+  }
+  if (progress) progress("clean-up", 1.0);
+}
 
 }  // namespace
 
@@ -737,9 +857,26 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   const int N = 1 << options.levels;
   const long long nbv = out.base.V.rows();
   std::unordered_map<std::uint64_t, int> edgePoint;
+  std::vector<int> inputOf(nbv);
+  for (int v = 0; v < static_cast<int>(baseOf.size()); ++v)
+    if (baseOf[v] >= 0) inputOf[baseOf[v]] = v;
   std::vector<Vec3> positions;
+  std::vector<char> inside;  // grid points free to move in the clean-up
   for (int v = 0; v < nbv; ++v) positions.push_back(out.base.V.row(v).transpose());
   std::vector<std::array<int, 3>> faces;
+  // Where each output vertex lies on the input: a triangle and barycentric
+  // coordinates (the reference for its orientation in the clean-up). Base vertices
+  // are input vertices: a corner of any of their input triangles.
+  std::vector<Where> where(nbv);
+  for (Eigen::Index t = 0; t < input.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int b = baseOf[input.F(t, k)];
+      if (b >= 0) {
+        where[b].triangle = static_cast<int>(t);
+        where[b].bary = {0, 0, 0};
+        where[b].bary[k] = 1;
+      }
+    }
   auto sample = [&](int f, const std::array<double, 3>& b) -> Vec3 {
     std::array<double, 3> bary;
     int t = faceGrid[f].locate(Charts::inFace(b), bary, [](int) { return true; });
@@ -767,12 +904,16 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       if (t < 0) {  // no input triangle anywhere near: the base face's own plane
         Vec3 p = Vec3::Zero();
         for (int i = 0; i < 3; ++i) p += b[i] * out.base.V.row(out.base.F(f, i)).transpose();
+        where.push_back({-1, {0, 0, 0}});
         return p;
       }
-      bary = clamped(bary);
+      // In a crack between triangle images: just outside the nearest one, extended in
+      // its plane (so neighbouring grid points stay distinct); farther, on its edge.
+      if (minOf(bary) < -0.25) bary = clamped(bary);
     }
     Vec3 p = Vec3::Zero();
     for (int i = 0; i < 3; ++i) p += bary[i] * input.V.row(input.F(t, i)).transpose();
+    where.push_back({t, bary});
     return p;
   };
   for (int f = 0; f < nb; ++f) {
@@ -803,11 +944,18 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
           if (p > q) std::swap(p, q), step = N - step;
           const std::uint64_t key = (static_cast<std::uint64_t>(p) * nbv + q) * (N + 1) + step;
           auto [it, fresh] = edgePoint.emplace(key, static_cast<int>(positions.size()));
-          if (fresh) positions.push_back(sample(f, bary));
+          if (fresh) {
+            positions.push_back(sample(f, bary));
+            // Free to move in the clean-up unless the edge is a feature or a boundary.
+            inside.resize(positions.size(), 0);
+            inside.back() = !s.featureEdge(inputOf[p], inputOf[q]) && !charts.boundaryEdge(p, q);
+          }
           slot = it->second;
         } else {
           slot = static_cast<int>(positions.size());
           positions.push_back(sample(f, bary));
+          inside.resize(positions.size(), 0);
+          inside.back() = 1;
         }
       }
     for (int i = 0; i < N; ++i)
@@ -822,6 +970,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   out.mesh.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
+  inside.resize(positions.size(), 0);
+  untangle(out, input, inside, where, progress);
   return out;
 }
 

@@ -18,6 +18,10 @@
 //    triangle whose parameter image contains it, in the chart of its base face or,
 //    for input triangles that straddle base faces, in the conformal chart around a
 //    shared base vertex) and placed at the corresponding point of the input surface.
+// 3. Clean-up. Where the parameterisation folded or collapsed (a few hundred grid
+//    triangles in 300,000 on scans), triangles come out flipped or of zero area;
+//    the grid points inside base faces around them are moved to the closest input
+//    point of their neighbours' centroid until none is left (or a few rounds pass).
 //
 // The output has subdivision connectivity in its own vertex and face order: the
 // rest of osdmra recovers its structure (recovery.h).
@@ -50,6 +54,9 @@ struct Remeshing {
   /// Grid points whose parameter fell outside every input triangle image and were
   /// snapped to the nearest one (a measure of parameterisation trouble; 0 is ideal).
   int snappedSamples = 0;
+  /// Triangles of `mesh` left flipped (facing against the input where they lie) or
+  /// of zero area after the clean-up pass; 0 is the goal (see remesh()).
+  int flippedTriangles = 0, degenerateTriangles = 0;
 };
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).
