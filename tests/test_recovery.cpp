@@ -82,7 +82,10 @@ TEST(Recovery, ShuffledSubdivisionMeshesAtEveryLevel) {
   bases.push_back({"two components", disjointUnion(shapes::octahedron(), shapes::torus())});
   for (const auto& [name, base] : bases) {
     for (int J = 1; J <= 6; ++J) {
-      if ((base.F.rows() << (2 * J)) > 70000) break;
+      // Every shape the issue lists goes to J = 6 (up to 409,600 faces); the others
+      // stop at about 70,000 faces.
+      const bool listed = name != "genus3" && name != "valences";
+      if ((base.F.rows() << (2 * J)) > (listed ? 450000 : 70000)) break;
       SCOPED_TRACE(name + ", J = " + std::to_string(J));
       const TriMesh surface = subdivide(base, J, Scheme::Loop, 0.03, J);
       const TriMesh input = shuffle(surface, 100 + J);
