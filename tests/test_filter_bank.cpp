@@ -48,6 +48,11 @@ std::string caseName(const testing::TestParamInfo<Case>& info) {
   return info.param.shape + "_" + schemeName(info.param.scheme) + "_" + info.param.kind.name();
 }
 
+// Readable parameters in test listings (ctest names) instead of raw bytes.
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.shape << " " << schemeName(c.scheme) << " " << c.kind.name();
+}
+
 class Reconstruction : public testing::TestWithParam<Case> {};
 
 }  // namespace
@@ -161,8 +166,8 @@ TEST(Wavelets, NormsMatchAssembledGram) {
 TEST(FilterBank, SingularVertexRuleBlockIsReportedWithItsLevel) {
   // Two identical rows: singular. The message must name the level.
   SparseMatrix P(3, 3);
-  std::vector<Eigen::Triplet<double>> t = {{0, 0, 0.5}, {0, 1, 0.5}, {1, 0, 0.5},
-                                           {1, 1, 0.5}, {2, 2, 1.0}};
+  std::vector<Eigen::Triplet<double>> t = {
+      {0, 0, 0.5}, {0, 1, 0.5}, {1, 0, 0.5}, {1, 1, 0.5}, {2, 2, 1.0}};
   P.setFromTriplets(t.begin(), t.end());
   Points rhs = Points::Ones(3, 3);
   rhs(1, 0) = 2.0;  // inconsistent right-hand side

@@ -20,6 +20,11 @@ std::string caseName(const testing::TestParamInfo<Case>& info) {
   return info.param.shape + "_" + schemeName(info.param.scheme);
 }
 
+// Readable parameters in test listings (ctest names) instead of raw bytes.
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.shape << " " << schemeName(c.scheme);
+}
+
 std::vector<Case> allCases() {
   std::vector<Case> cases;
   for (auto& [name, mesh] : shapes::all())
