@@ -960,7 +960,9 @@ int cmdDemo(const std::vector<std::string>& argv) {
 
   Json runs = Json::array();
   std::ostringstream md;
-  const std::string structure = describe(canonicalSurface(mesh).recovery);
+  // Recovery alone (no hierarchy): the analyses below build their own.
+  const std::string structure =
+      describe(recoverSubdivision(mesh.F, static_cast<int>(mesh.V.rows())));
   md << "# Levels of detail of " << (bundled ? "the bundled head" : "`" + in + "`") << "\n\n"
      << "`osdmra demo`: `" << std::filesystem::path(in).filename().string() << "`, "
      << mesh.F.rows() << " triangles" << (remeshed.used ? " after remeshing" : "") << ", "
@@ -968,9 +970,7 @@ int cmdDemo(const std::vector<std::string>& argv) {
      << "; coefficients kept by importance |d| ||psi||. Errors are relative to the "
      << "bounding-box diagonal of the full-resolution surface: the exact parametric L2 error as "
      << "an RMS over the domain, and the sampled symmetric RMS and Hausdorff distances ("
-     << dist.samples << " samples per surface plus all vertices, seed " << dist.seed << ").\n\n"
-     << "| scheme | budget | triangles | coefficients kept | parametric L2 (RMS) | sampled RMS "
-        "| Hausdorff | extraction (s) |\n|---|---|---|---|---|---|---|---|\n";
+     << dist.samples << " samples per surface plus all vertices, seed " << dist.seed << ").\n\n";
   if (remeshed.used) {
     char line[400];
     std::snprintf(line, sizeof line,
@@ -980,11 +980,10 @@ int cmdDemo(const std::vector<std::string>& argv) {
                   remeshed.inputFaces, static_cast<int>(remeshed.result.mesh.F.rows()),
                   static_cast<int>(remeshed.result.base.F.rows()), remeshed.distance.rmsRelative,
                   remeshed.distance.hausdorffRelative, remeshed.seconds);
-    const std::string text = md.str();
-    const std::size_t table = text.find("| scheme |");
-    md.str(text.substr(0, table) + line + text.substr(table));
-    md.seekp(0, std::ios::end);
+    md << line;
   }
+  md << "| scheme | budget | triangles | coefficients kept | parametric L2 (RMS) | sampled RMS "
+        "| Hausdorff | extraction (s) |\n|---|---|---|---|---|---|---|---|\n";
   if (!opt.json) {
     if (remeshed.used) printRemesh(in, remeshed);
     std::printf("%s: %d vertices, %d faces\n", in.c_str(), static_cast<int>(mesh.V.rows()),
