@@ -120,17 +120,34 @@ class Simplifier {
     aliveFaces_ = static_cast<int>(m.F.rows());
     removed_.assign(n, 0);
     param_.resize(n);
+    // Folds of a scan: triangles facing against their own corners' area-weighted
+    // normals (a sliver turned over onto its neighbour). Their edges look like the
+    // sharpest creases and their corners like the sharpest points of the surface;
+    // they are noise: no feature, and removed first at any distortion (else a fold
+    // survives as a base face, and every grid triangle in it comes out flipped).
+    Points vertexNormals = Points::Zero(n, 3);
+    std::vector<Vec3> faceNormals(m.F.rows());
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), cc = m.V.row(m.F(f, 2));
+      faceNormals[f] = (b - a).cross(cc - a);
+      for (int k = 0; k < 3; ++k) vertexNormals.row(m.F(f, k)) += faceNormals[f].transpose();
+    }
+    fold_.assign(n, 0);
+    std::vector<char> foldFace(m.F.rows(), 0);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      Vec3 r = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) r += vertexNormals.row(m.F(f, k)).transpose();
+      if (faceNormals[f].dot(r) > 0) continue;
+      foldFace[f] = 1;
+      for (int k = 0; k < 3; ++k) fold_[m.F(f, k)] = 1;
+    }
     // Feature edges: the angle between the normals of their two faces.
     const Connectivity c(m.F, n);
-    auto normal = [&](int f) {
-      const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), cc = m.V.row(m.F(f, 2));
-      return (b - a).cross(cc - a).normalized();
-    };
     const double cosLimit = std::cos(featureAngle * kPi / 180.0);
     for (int h = 0; h < 3 * c.numFaces(); ++h) {
       const int t = c.twin(h);
-      if (t < h) continue;
-      if (normal(h / 3).dot(normal(t / 3)) < cosLimit)
+      if (t < h || foldFace[h / 3] || foldFace[t / 3]) continue;
+      if (faceNormals[h / 3].normalized().dot(faceNormals[t / 3].normalized()) < cosLimit)
         features_.insert(edgeKey(c.from(h), c.to(h)));
     }
     pruneShortFeatureChains(n);
@@ -222,7 +239,7 @@ class Simplifier {
             std::abs((r.boundary ? kPi : 2 * kPi) - angles) + bending / std::max(extent, 1e-300);
         maxArea = std::max(maxArea, area);
         maxCurv = std::max(maxCurv, curv);
-        cands.push_back({area, curv, v});
+        cands.push_back({area, fold_[v] ? 0.0 : curv, v});
       }
       // Weight of the area term: 0.3 met the error targets on all four scans of
       // docs/REMESH.md; 0.5 (MAPS's choice) left the bunny's ears undersampled.
@@ -401,7 +418,7 @@ class Simplifier {
     // A strongly curved one-ring (a cone tip, a saddle) flattens with much
     // distortion: keep such vertices while flatter ones remain (the limit relaxes
     // round by round when nothing else can go).
-    if (power > maxPower_ || power < 1 / maxPower_) return false;
+    if (!fold_[v] && (power > maxPower_ || power < 1 / maxPower_)) return false;
     std::vector<double> phi(m + 1, 0.0);
     auto fill = [&](int from, int to, double startAngle, double span) {
       double sum = 0;
@@ -518,7 +535,7 @@ class Simplifier {
   std::vector<char> faceAlive_;
   std::vector<std::vector<int>> vertFaces_, facePoints_;
   std::vector<Param> param_;
-  std::vector<char> removed_;
+  std::vector<char> removed_, fold_;
   std::unordered_set<std::uint64_t> features_;
   int aliveFaces_ = 0, featureCount_ = 0;
   double maxPower_ = 1.5;             // accepted z^a exponent range [1/x, x]
