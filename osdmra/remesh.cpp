@@ -559,20 +559,52 @@ class Charts {
   }
 
   // The point (face f, barycentric b) in the chart around base vertex w, which must
-  // be a corner of f.
+  // be a corner of f. The faces around w are spread evenly over the disk (a half-disk
+  // on a boundary), face k as the triangle (0, P_k, P_k+1) with P_k at angle k times
+  // the span, and mapped affinely, so that a straight image inside one face is the
+  // same straight image here as in the face's own chart (no crack between an input
+  // triangle placed around w and its neighbours placed in a face).
   Vec2 aroundVertex(int w, int f, const std::array<double, 3>& b) const {
     const IndexSpan fan = conn_.fan(w);
     int k = 0;
     while (k < fan.size() && fan[k] / 3 != f) ++k;
     if (k == fan.size()) return Vec2::Zero();  // not a corner of f (callers check)
     const int i = fan[k] % 3;  // w is corner i of f; the fan's face is (w, next, prev)
-    // In the face's own frame: w at the origin, its next corner on the x axis.
-    const Vec2 q = b[(i + 1) % 3] * Vec2(1, 0) + b[(i + 2) % 3] * Vec2(0.5, std::sqrt(3.0) / 2);
-    const double r = q.norm(), theta = std::atan2(q.y(), q.x());  // theta in [0, pi/3]
-    const double span = (conn_.isBoundaryVertex(w) ? kPi : 2 * kPi) / fan.size();
-    const double angle = (k + theta / (kPi / 3)) * span;
-    return r * Vec2(std::cos(angle), std::sin(angle));
+    // A single face on a boundary would span a flat angle: 2 pi / 3 at most.
+    const double span =
+        std::min((conn_.isBoundaryVertex(w) ? kPi : 2 * kPi) / fan.size(), 2 * kPi / 3);
+    const Vec2 p0(std::cos(k * span), std::sin(k * span)),
+        p1(std::cos((k + 1) * span), std::sin((k + 1) * span));
+    return b[(i + 1) % 3] * p0 + b[(i + 2) % 3] * p1;
   }
+
+  // The edge chart of base edge e: its two faces unfolded into a rhombus, the edge's
+  // first halfedge from (0,0) to (1,0), that halfedge's face above the axis and the
+  // other below, each an equilateral triangle as in its own chart. Face charts embed
+  // in it isometrically, so an input triangle across the edge has the same straight
+  // image as its neighbours inside either face: no crack along base edges.
+  // The point (face f, barycentric b) in that chart; f must be a face of e.
+  Vec2 inEdgeChart(int e, int f, const std::array<double, 3>& b) const {
+    const int h = conn_.edgeHalfedge(e);
+    const double up = f == h / 3 ? 1.0 : -1.0;
+    Vec2 p = Vec2::Zero();
+    for (int i = 0; i < 3; ++i) {
+      const int v = base_.F(f, i);
+      const Vec2 at = v == conn_.from(h) ? Vec2(0, 0)
+                      : v == conn_.to(h) ? Vec2(1, 0)
+                                         : Vec2(0.5, up * std::sqrt(3.0) / 2);
+      p += b[i] * at;
+    }
+    return p;
+  }
+  /// The two faces of base edge e (the second -1 on a boundary).
+  std::array<int, 2> edgeFaces(int e) const {
+    const int h = conn_.edgeHalfedge(e), t = conn_.twin(h);
+    return {h / 3, t < 0 ? -1 : t / 3};
+  }
+  /// Edge i of base face f (from its corner i to corner i + 1).
+  int faceEdge(int f, int i) const { return conn_.edge(3 * f + i); }
+  int numEdges() const { return conn_.numEdges(); }
 
   // The base faces around vertex w.
   std::vector<int> facesAround(int w) const {
@@ -781,6 +813,18 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       if (near[m.F(f, 0)] == round || near[m.F(f, 1)] == round || near[m.F(f, 2)] == round)
         suspects.push_back(f);
   }
+  if (std::getenv("OSDMRA_DEBUG")) {
+    std::vector<int> d(m.V.rows(), -1);
+    std::vector<int> q;
+    for (int v = 0; v < m.V.rows(); ++v) if (v < out.base.V.rows()) { d[v] = 0; q.push_back(v); }
+    for (std::size_t i = 0; i < q.size(); ++i) for (int w : rings.ring(q[i])) if (d[w] < 0) { d[w] = d[q[i]] + 1; q.push_back(w); }
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      bool dg = false;
+      if (!bad(f, dg)) continue;
+      int dd = std::min({d[m.F(f,0)], d[m.F(f,1)], d[m.F(f,2)]});
+      std::fprintf(stderr, "bad %ld face %ld dist %d deg %d free %d%d%d\n", long(f), long(f / (m.F.rows() / out.base.F.rows())), dd, dg, free[m.F(f,0)], free[m.F(f,1)], free[m.F(f,2)]);
+    }
+  }
   if (progress) progress("clean-up", 1.0);
 }
 
@@ -824,7 +868,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // vertex, from a face on either side, would put the sample on the wrong side of a
   // feature edge).
   const Charts charts(out.base);
-  std::vector<TriangleGrid> faceGrid(nb), vertexGrid(out.base.V.rows());
+  std::vector<TriangleGrid> faceGrid(nb), edgeGrid(charts.numEdges()),
+      vertexGrid(out.base.V.rows());
   std::vector<std::array<int, 3>> touches(input.F.rows(), {-1, -1, -1});
   for (Eigen::Index t = 0; t < input.F.rows(); ++t) {
     const std::array<int, 3> v{input.F(t, 0), input.F(t, 1), input.F(t, 2)};
@@ -840,6 +885,24 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       touches[t] = {g, g, g};
       placed = true;
     }
+    for (int c = 0; c < 3 && !placed; ++c)
+      for (int i = 0; i < 3 && !placed; ++i) {
+        const int e = charts.faceEdge(params[v[c]].face, i);
+        const std::array<int, 2> two = charts.edgeFaces(e);
+        if (two[1] < 0) continue;
+        std::array<Vec2, 3> tri;
+        std::array<int, 3> faces{-1, -1, -1};
+        for (int k = 0; k < 3; ++k) {
+          for (int g : two)
+            if (faces[k] < 0 && expressIn(params[v[k]], g, b[k])) faces[k] = g;
+          if (faces[k] < 0) break;
+          tri[k] = charts.inEdgeChart(e, faces[k], b[k]);
+        }
+        if (faces[0] < 0 || faces[1] < 0 || faces[2] < 0) continue;
+        edgeGrid[e].add(tri, static_cast<int>(t));
+        touches[t] = faces;
+        placed = true;
+      }
     for (int i = 0; i < 3 && !placed; ++i) {
       const int w = out.base.F(params[v[0]].face, i);
       std::array<Vec2, 3> tri;
@@ -867,6 +930,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     }
   }
   for (auto& g : faceGrid) g.build();
+  for (auto& g : edgeGrid) g.build();
   for (auto& g : vertexGrid) g.build();
 
   // The grid of each base face, J times split: corners are base vertices, edge
@@ -901,13 +965,28 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       return touches[q][0] == f || touches[q][1] == f || touches[q][2] == f;
     };
     for (int i = 0; i < 3 && t < 0; ++i) {
+      const int e = charts.faceEdge(f, i);
+      t = edgeGrid[e].locate(charts.inEdgeChart(e, f, b), bary, [](int) { return true; });
+    }
+    for (int i = 0; i < 3 && t < 0; ++i) {
       const int w = out.base.F(f, i);
       t = vertexGrid[w].locate(charts.aroundVertex(w, f, b), bary, touchesF);
     }
     if (t < 0) {
       ++out.snappedSamples;
+
       double score = -1e300;
       t = faceGrid[f].nearest(Charts::inFace(b), bary, score, [](int) { return true; });
+      for (int i = 0; i < 3; ++i) {
+        const int e = charts.faceEdge(f, i);
+        std::array<double, 3> b2;
+        const int t2 = edgeGrid[e].nearest(charts.inEdgeChart(e, f, b), b2, score,
+                                           [](int) { return true; });
+        if (t2 >= 0) {
+          t = t2;
+          bary = b2;
+        }
+      }
       for (int i = 0; i < 3; ++i) {
         const int w = out.base.F(f, i);
         std::array<double, 3> b2;
@@ -918,6 +997,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
           bary = b2;
         }
       }
+      if (std::getenv("OSDMRA_DEBUG")) std::fprintf(stderr, "snap %d %g %g %g score %g t %d touches %d %d %d\n", f, b[0], b[1], b[2], score, t, t >= 0 ? touches[t][0] : -9, t >= 0 ? touches[t][1] : -9, t >= 0 ? touches[t][2] : -9);
       if (t < 0) {  // no input triangle anywhere near: the base face's own plane
         Vec3 p = Vec3::Zero();
         for (int i = 0; i < 3; ++i) p += b[i] * out.base.V.row(out.base.F(f, i)).transpose();
