@@ -1,6 +1,7 @@
 #include "osdmra/remesh.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -597,6 +598,7 @@ class Charts {
     }
     return p;
   }
+  std::array<int, 2> edgeVertices(int e) const { return conn_.edgeVertices(e); }
   /// The two faces of base edge e (the second -1 on a boundary).
   std::array<int, 2> edgeFaces(int e) const {
     const int h = conn_.edgeHalfedge(e), t = conn_.twin(h);
@@ -743,12 +745,15 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         n += std::max(w.bary[k], 0.0) * vertexNormals.row(input.F(w.triangle, k)).transpose();
     return n;
   };
-  auto bad = [&](Eigen::Index f, bool& degenerate) {
-    const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+  auto badCorners = [&](int i, int j, int k, bool& degenerate) {
+    const Vec3 a = m.V.row(i), b = m.V.row(j), c = m.V.row(k);
     const Vec3 n = (b - a).cross(c - a);
     degenerate = n.norm() <= tinyArea;
     if (degenerate) return true;
-    return n.dot(reference(m.F(f, 0)) + reference(m.F(f, 1)) + reference(m.F(f, 2))) <= 0;
+    return n.dot(reference(i) + reference(j) + reference(k)) <= 0;
+  };
+  auto bad = [&](Eigen::Index f, bool& degenerate) {
+    return badCorners(m.F(f, 0), m.F(f, 1), m.F(f, 2), degenerate);
   };
   std::vector<Eigen::Index> suspects(static_cast<std::size_t>(m.F.rows()));
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) suspects[f] = f;
@@ -813,6 +818,204 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       if (near[m.F(f, 0)] == round || near[m.F(f, 1)] == round || near[m.F(f, 2)] == round)
         suspects.push_back(f);
   }
+  // Second stage, for what the first leaves (mostly the corner triangles of a base
+  // vertex whose grid neighbours were sampled out of order around it): the grid
+  // points within k rings of a corner of each bad triangle (k = 2, 3, ... until it
+  // works) are resampled from the tangent plane there. In that plane the points k
+  // rings away and any point held in place (base vertices, points on feature and
+  // boundary edges) stay where they are; the others go to Tutte's embedding (each the
+  // average of its grid neighbours), and are lifted back along the plane's normal onto
+  // the input triangles nearby that face the plane. Where the input is a height field
+  // over the plane and the held ring is convex enough, nothing comes out turned over;
+  // a disk is kept only if no triangle around the moved points is bad.
+  std::vector<int> inputFacesStart(input.V.rows() + 1, 0), inputFaces(3 * input.F.rows());
+  for (Eigen::Index t = 0; t < input.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) ++inputFacesStart[input.F(t, k) + 1];
+  for (Eigen::Index v = 0; v < input.V.rows(); ++v) inputFacesStart[v + 1] += inputFacesStart[v];
+  {
+    std::vector<int> fill(inputFacesStart.begin(), inputFacesStart.end() - 1);
+    for (Eigen::Index t = 0; t < input.F.rows(); ++t)
+      for (int k = 0; k < 3; ++k) inputFaces[fill[input.F(t, k)]++] = static_cast<int>(t);
+  }
+  std::vector<int> dist(m.V.rows(), -1), local(m.V.rows(), -1), triangleStamp(input.F.rows(), -1),
+      vertexStamp(input.V.rows(), -1);
+  int disks = 0;
+  int dbgWhy = 0;
+  const int numBase = static_cast<int>(out.base.V.rows());
+  auto resampleDisk = [&](int center, int k) {
+    std::vector<int> order{center};
+    dist[center] = 0;
+    for (std::size_t q = 0; q < order.size(); ++q) {
+      if (dist[order[q]] == k) continue;
+      for (int w : rings.ring(order[q]))
+        if (dist[w] < 0) {
+          dist[w] = dist[order[q]] + 1;
+          order.push_back(w);
+        }
+    }
+    // A base vertex at the centre moves too, unless a feature or a boundary runs
+    // through it (then some grid neighbour of it is held): the grid around it says
+    // where the middle of its neighbourhood is.
+    auto movable = [&](int v) {
+      if (free[v]) return true;
+      if (v != center || v >= numBase) return false;
+      for (int w : rings.ring(v))
+        if (!free[w]) return false;
+      return !rings.isBoundaryVertex(v);
+    };
+    std::vector<int> inner;
+    for (int v : order)
+      if (dist[v] < k && movable(v)) {
+        local[v] = static_cast<int>(inner.size());
+        inner.push_back(v);
+      }
+    struct Reset {
+      std::vector<int>& d;
+      std::vector<int>& l;
+      const std::vector<int>& o;
+      ~Reset() {
+        for (int v : o) d[v] = l[v] = -1;
+      }
+    } reset{dist, local, order};
+    if (inner.empty()) { dbgWhy = 1; return false; }
+    Vec3 normal = reference(center);
+    for (int v : inner) normal += reference(v);
+    const Vec3 origin = m.V.row(center);
+    if (!(normal.norm() > 0)) { dbgWhy = 2; return false; }
+    normal.normalize();
+    const Vec3 e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+    auto flat = [&](const Vec3& x) { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); };
+    const int ni = static_cast<int>(inner.size());
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(ni, 2);
+    for (int i = 0; i < ni; ++i) {
+      const IndexSpan ring = rings.ring(inner[i]);
+      entries.emplace_back(i, i, double(ring.size()));
+      for (int w : ring)
+        if (local[w] >= 0)
+          entries.emplace_back(i, local[w], -1.0);
+        else
+          rhs.row(i) += flat(m.V.row(w).transpose()).transpose();
+    }
+    Eigen::SparseMatrix<double> A(ni, ni);
+    A.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+    const Eigen::MatrixX2d uv = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !uv.allFinite()) { dbgWhy = 3; return false; }
+    auto at = [&](int v) -> Vec2 {
+      return local[v] >= 0 ? Vec2(uv.row(local[v]).transpose()) : flat(m.V.row(v).transpose());
+    };
+    {
+      int negs = 0, total = 0; std::string where2;
+      for (int v : inner) {
+        const IndexSpan ring = rings.ring(v);
+        const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
+        for (int j = 0; j < last; ++j) {
+          ++total;
+          if (cross2(at(ring[j]) - at(v), at(ring[(j + 1) % ring.size()]) - at(v)) <= 0) { ++negs; where2 += " " + std::to_string(dist[v]) + "/" + std::to_string(dist[ring[j]]) + "/" + std::to_string(dist[ring[(j+1)%ring.size()]]); }
+        }
+      }
+      if (negs) { if (std::getenv("OSDMRA_DEBUG") && k == 4) std::fprintf(stderr, "  k %d inner %d negs %d of %d at%s\n", k, ni, negs, total, where2.substr(0, 200).c_str()); dbgWhy = 4; return false; }
+    }
+    // The input nearby: triangles reachable from where the disk was sampled, within
+    // its extent, facing the plane.
+    double radius = 0;
+    for (int v : order) radius = std::max(radius, (m.V.row(v).transpose() - origin).norm());
+    radius *= 1.5;
+    ++disks;
+    std::vector<int> patch, stack;
+    auto visit = [&](int t) {
+      if (t >= 0 && triangleStamp[t] != disks) {
+        triangleStamp[t] = disks;
+        stack.push_back(t);
+      }
+    };
+    for (int v : order) visit(where[v].triangle);
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      bool close = false;
+      for (int c = 0; c < 3; ++c)
+        close = close || (input.V.row(input.F(t, c)).transpose() - origin).norm() <= radius;
+      if (!close) continue;
+      patch.push_back(t);
+      for (int c = 0; c < 3; ++c) {
+        const int x = input.F(t, c);
+        if (vertexStamp[x] == disks) continue;
+        vertexStamp[x] = disks;
+        for (int q = inputFacesStart[x]; q < inputFacesStart[x + 1]; ++q) visit(inputFaces[q]);
+      }
+    }
+    std::vector<Vec3> to(ni);
+    std::vector<Where> found(ni);
+    for (int i = 0; i < ni; ++i) {
+      const Vec2 p = uv.row(i).transpose();
+      const Vec3 old = m.V.row(inner[i]);
+      double best = std::numeric_limits<double>::infinity();
+      for (int t : patch) {
+        const Vec3 a = input.V.row(input.F(t, 0)), b = input.V.row(input.F(t, 1)),
+                   c = input.V.row(input.F(t, 2));
+        const Vec2 fa = flat(a), fb = flat(b), fc = flat(c);
+        if (cross2(fb - fa, fc - fa) <= 0) continue;  // facing away from the plane
+        const auto bary = barycentric(p, fa, fb, fc);
+        if (minOf(bary) < -1e-12) continue;
+        const Vec3 x = bary[0] * a + bary[1] * b + bary[2] * c;
+        if ((x - old).norm() < best) {
+          best = (x - old).norm();
+          to[i] = x;
+          found[i] = {t, clamped(bary)};
+        }
+      }
+      if (found[i].triangle < 0) { dbgWhy = 5; return false; }
+    }
+    std::vector<Vec3> oldPosition(ni);
+    std::vector<Where> oldWhere(ni);
+    for (int i = 0; i < ni; ++i) {
+      oldPosition[i] = m.V.row(inner[i]);
+      oldWhere[i] = where[inner[i]];
+      m.V.row(inner[i]) = to[i].transpose();
+      where[inner[i]] = found[i];
+    }
+    bool good = true;
+    for (int v : inner) {
+      const IndexSpan ring = rings.ring(v);
+      const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
+      for (int j = 0; j < last && good; ++j) {
+        bool degenerate = false;
+        good = !badCorners(v, ring[j], ring[(j + 1) % ring.size()], degenerate);
+      }
+    }
+    if (good) return true;
+    for (int i = 0; i < ni; ++i) {
+      m.V.row(inner[i]) = oldPosition[i].transpose();
+      where[inner[i]] = oldWhere[i];
+    }
+    { dbgWhy = 6; return false; }
+  };
+  std::vector<Eigen::Index> left;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    bool degenerate = false;
+    if (bad(f, degenerate)) left.push_back(f);
+  }
+  constexpr int kMaxRings = 8;
+  for (Eigen::Index f : left) {
+    bool degenerate = false;
+    if (!bad(f, degenerate)) continue;  // a disk around a neighbour fixed it
+    int center = m.F(f, 0);
+    for (int c = 0; c < 3; ++c)
+      if (m.F(f, c) < numBase) center = m.F(f, c);
+    std::string why;
+    for (int k = 2; k <= kMaxRings; ++k) {
+      if (resampleDisk(center, k)) { why += " ok"; break; }
+      why += " " + std::to_string(dbgWhy);
+    }
+    if (std::getenv("OSDMRA_DEBUG")) std::fprintf(stderr, "disk f %ld center %d base %d free %d:%s\n", long(f), center, center < numBase, int(free[center]), why.c_str());
+  }
+  out.flippedTriangles = out.degenerateTriangles = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    bool degenerate = false;
+    if (bad(f, degenerate)) ++(degenerate ? out.degenerateTriangles : out.flippedTriangles);
+  }
   if (std::getenv("OSDMRA_DEBUG")) {
     std::vector<int> d(m.V.rows(), -1);
     std::vector<int> q;
@@ -868,6 +1071,9 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // vertex, from a face on either side, would put the sample on the wrong side of a
   // feature edge).
   const Charts charts(out.base);
+  std::vector<int> inputOf(out.base.V.rows());  // base vertex -> input vertex
+  for (int v = 0; v < static_cast<int>(baseOf.size()); ++v)
+    if (baseOf[v] >= 0) inputOf[baseOf[v]] = v;
   std::vector<TriangleGrid> faceGrid(nb), edgeGrid(charts.numEdges()),
       vertexGrid(out.base.V.rows());
   std::vector<std::array<int, 3>> touches(input.F.rows(), {-1, -1, -1});
@@ -889,7 +1095,10 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       for (int i = 0; i < 3 && !placed; ++i) {
         const int e = charts.faceEdge(params[v[c]].face, i);
         const std::array<int, 2> two = charts.edgeFaces(e);
-        if (two[1] < 0) continue;
+        // Not across a feature: no input triangle should cross one, and a sample
+        // must not find one that does (the vertex charts keep to a face's side).
+        const std::array<int, 2> ends = charts.edgeVertices(e);
+        if (two[1] < 0 || s.featureEdge(inputOf[ends[0]], inputOf[ends[1]])) continue;
         std::array<Vec2, 3> tri;
         std::array<int, 3> faces{-1, -1, -1};
         for (int k = 0; k < 3; ++k) {
@@ -938,9 +1147,6 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   const int N = 1 << options.levels;
   const long long nbv = out.base.V.rows();
   std::unordered_map<std::uint64_t, int> edgePoint;
-  std::vector<int> inputOf(nbv);
-  for (int v = 0; v < static_cast<int>(baseOf.size()); ++v)
-    if (baseOf[v] >= 0) inputOf[baseOf[v]] = v;
   std::vector<Vec3> positions;
   std::vector<char> inside;  // grid points free to move in the clean-up
   for (int v = 0; v < nbv; ++v) positions.push_back(out.base.V.row(v).transpose());
