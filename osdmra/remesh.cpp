@@ -153,14 +153,56 @@ class Simplifier {
     }
     pruneShortFeatureChains(n);
     featureCount_ = static_cast<int>(features_.size());
+    // Corners of feature lines: where a line turns sharply (the fandisk's creases meet
+    // at such kinks), the vertex stays, like a vertex where lines meet; else a base
+    // edge would cut the corner and the grid beside it fold.
+    corner_.assign(n, 0);
+    std::vector<std::vector<int>> along(n);
+    for (std::uint64_t k : features_) {
+      const int a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
+      along[a].push_back(b);
+      along[b].push_back(a);
+    }
+    // The turn is measured between points two edges away along the line, so that
+    // the zig-zag of a scanned crease is not a corner.
+    auto ahead = [&](int from, int next) {
+      if (along[next].size() == 2) {
+        const int after = along[next][0] == from ? along[next][1] : along[next][0];
+        if (after != from) return after;
+      }
+      return next;
+    };
+    // Edges along the line from v through `next`, up to `cap`.
+    auto length = [&](int v, int next, int cap) {
+      int count = 1, from = v;
+      while (count < cap && along[next].size() == 2 && next != v) {
+        const int after = along[next][0] == from ? along[next][1] : along[next][0];
+        from = next;
+        next = after;
+        ++count;
+      }
+      return count;
+    };
+    const double cosTurn = std::cos(kMaxTurn * kPi / 180.0);
+    for (int v = 0; v < n; ++v) {
+      // A kink on a short line is noise (the creases of a scan's rough rim).
+      if (along[v].size() != 2 ||
+          length(v, along[v][0], 2 * kMinChain) + length(v, along[v][1], 2 * kMinChain) <
+              2 * kMinChain)
+        continue;
+      const int p = ahead(v, along[v][0]), q = ahead(v, along[v][1]);
+      const Vec3 a = (m.V.row(v) - m.V.row(p)).transpose().normalized(),
+                 b = (m.V.row(q) - m.V.row(v)).transpose().normalized();
+      corner_[v] = a.dot(b) < cosTurn;
+    }
   }
 
   // Scans carry sharp-looking noise: single edges and short chains of feature edges.
   // A feature must be a chain of at least kMinChain edges between its ends (vertices
   // with other than two feature edges), or a closed loop; the rest are dropped, so
   // that they neither pin vertices in the base mesh nor bend the parameterisation.
+  static constexpr int kMinChain = 4;
   void pruneShortFeatureChains(int n) {
-    constexpr int kMinChain = 4;
     std::vector<std::vector<int>> adj(n);
     for (std::uint64_t k : features_) {
       const int a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
@@ -376,7 +418,7 @@ class Simplifier {
     int nf = 0;
     for (int k = 0; k < m + (r.boundary ? 1 : 0); ++k) nf += isFeature(v, r.verts[k]);
     if (r.boundary) return nf == 0 && m >= 2;
-    return m >= 3 && (nf == 0 || nf == 2);
+    return m >= 3 && (nf == 0 || (nf == 2 && !corner_[v]));
   }
 
   bool hasEdge(int a, int b) const {
@@ -536,7 +578,9 @@ class Simplifier {
   std::vector<char> faceAlive_;
   std::vector<std::vector<int>> vertFaces_, facePoints_;
   std::vector<Param> param_;
-  std::vector<char> removed_, fold_;
+  std::vector<char> removed_, fold_, corner_;
+  // Largest turn of a feature line at a removable vertex, in degrees.
+  static constexpr double kMaxTurn = 40.0;
   std::unordered_set<std::uint64_t> features_;
   int aliveFaces_ = 0, featureCount_ = 0;
   double maxPower_ = 1.5;             // accepted z^a exponent range [1/x, x]
@@ -745,6 +789,18 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         n += std::max(w.bary[k], 0.0) * vertexNormals.row(input.F(w.triangle, k)).transpose();
     return n;
   };
+  // Barycentric coordinates of point x (on it) in input triangle t; false if t has
+  // no area.
+  auto barycentricIn = [&](int t, const Vec3& x, std::array<double, 3>& bary) {
+    const Vec3 a = input.V.row(input.F(t, 0)), e1 = input.V.row(input.F(t, 1)) - a.transpose(),
+               e2 = input.V.row(input.F(t, 2)) - a.transpose(), d = x - a;
+    const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
+    if (!(det > 0)) return false;
+    const double u = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
+    const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
+    bary = {1 - u - w, u, w};
+    return true;
+  };
   auto badCorners = [&](int i, int j, int k, bool& degenerate) {
     const Vec3 a = m.V.row(i), b = m.V.row(j), c = m.V.row(k);
     const Vec3 n = (b - a).cross(c - a);
@@ -791,17 +847,10 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       for (int w : ring) c += m.V.row(w).transpose();
       const ClosestPoint cp = bvh.closestPoint(c / std::max(1, ring.size()));
       if (inputNormal(cp.face).dot(reference(moving[i])) <= 0) continue;  // the far side
-      // Barycentric coordinates of the closest point in its triangle.
-      const Vec3 a = input.V.row(input.F(cp.face, 0)),
-                 e1 = input.V.row(input.F(cp.face, 1)) - a.transpose(),
-                 e2 = input.V.row(input.F(cp.face, 2)) - a.transpose(), d = cp.point - a;
-      const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2),
-                   det = d11 * d22 - d12 * d12;
-      if (!(det > 0)) continue;
-      const double u = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
-      const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
+      std::array<double, 3> bary;
+      if (!barycentricIn(cp.face, cp.point, bary)) continue;
       to[i] = cp.point;
-      at[i] = {cp.face, {1 - u - w, u, w}};
+      at[i] = {cp.face, bary};
     }
     for (std::size_t i = 0; i < moving.size(); ++i)
       if (at[i].triangle >= 0) {
@@ -818,16 +867,12 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       if (near[m.F(f, 0)] == round || near[m.F(f, 1)] == round || near[m.F(f, 2)] == round)
         suspects.push_back(f);
   }
-  // Second stage, for what the first leaves (mostly the corner triangles of a base
-  // vertex whose grid neighbours were sampled out of order around it): the grid
-  // points within k rings of a corner of each bad triangle (k = 2, 3, ... until it
-  // works) are resampled from the tangent plane there. In that plane the points k
-  // rings away and any point held in place (base vertices, points on feature and
-  // boundary edges) stay where they are; the others go to Tutte's embedding (each the
-  // average of its grid neighbours), and are lifted back along the plane's normal onto
-  // the input triangles nearby that face the plane. Where the input is a height field
-  // over the plane and the held ring is convex enough, nothing comes out turned over;
-  // a disk is kept only if no triangle around the moved points is bad.
+  // What the first stage leaves (a few triangles, mostly next to base vertices whose
+  // grid neighbours were sampled out of order around them, or beside feature lines)
+  // is repaired in tangent planes: points are placed in a plane through the spot and
+  // lifted back along its normal onto the input triangles nearby that face it. Where
+  // the input is a height field over the plane that keeps the orientation, and each
+  // move is kept only if no triangle around the moved points is bad afterwards.
   std::vector<int> inputFacesStart(input.V.rows() + 1, 0), inputFaces(3 * input.F.rows());
   for (Eigen::Index t = 0; t < input.F.rows(); ++t)
     for (int k = 0; k < 3; ++k) ++inputFacesStart[input.F(t, k) + 1];
@@ -837,11 +882,109 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     for (Eigen::Index t = 0; t < input.F.rows(); ++t)
       for (int k = 0; k < 3; ++k) inputFaces[fill[input.F(t, k)]++] = static_cast<int>(t);
   }
-  std::vector<int> dist(m.V.rows(), -1), local(m.V.rows(), -1), triangleStamp(input.F.rows(), -1),
-      vertexStamp(input.V.rows(), -1);
-  int disks = 0;
-  int dbgWhy = 0;
+  struct Plane {
+    Vec3 origin, e1, e2;
+    Plane(const Vec3& o, const Vec3& normal)
+        : origin(o), e1(normal.unitOrthogonal()), e2(normal.cross(e1)) {}
+    Vec2 flat(const Vec3& x) const { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); }
+  };
+  std::vector<int> triangleStamp(input.F.rows(), -1), vertexStamp(input.V.rows(), -1);
+  int lifts = 0;
+  // Lifts points[i] of the plane onto the input for output vertex movers[i]: among
+  // the input triangles reachable from where `seeds` were sampled, within `radius` of
+  // the plane's origin and facing the plane, the one above the point nearest to the
+  // vertex's old position. False if some point has none.
+  auto lift = [&](const Plane& plane, const std::vector<int>& seeds, double radius,
+                  const std::vector<Vec2>& points, const std::vector<int>& movers,
+                  std::vector<Vec3>& to, std::vector<Where>& found) {
+    ++lifts;
+    std::vector<int> patch, stack;
+    auto visit = [&](int t) {
+      if (t >= 0 && triangleStamp[t] != lifts) {
+        triangleStamp[t] = lifts;
+        stack.push_back(t);
+      }
+    };
+    for (int v : seeds) visit(where[v].triangle);
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      bool close = false;
+      for (int c = 0; c < 3; ++c)
+        close = close || (input.V.row(input.F(t, c)).transpose() - plane.origin).norm() <= radius;
+      if (!close) continue;
+      patch.push_back(t);
+      for (int c = 0; c < 3; ++c) {
+        const int x = input.F(t, c);
+        if (vertexStamp[x] == lifts) continue;
+        vertexStamp[x] = lifts;
+        for (int q = inputFacesStart[x]; q < inputFacesStart[x + 1]; ++q) visit(inputFaces[q]);
+      }
+    }
+    to.assign(points.size(), Vec3::Zero());
+    found.assign(points.size(), Where());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      // Above a triangle: the one nearest the old position; above none (off an edge
+      // of the surface, or over a gap between its layers): the nearest one's edge.
+      const Vec3 old = m.V.row(movers[i]);
+      double best = std::numeric_limits<double>::infinity(), closest = -0.5;
+      for (int t : patch) {
+        const Vec3 a = input.V.row(input.F(t, 0)), b = input.V.row(input.F(t, 1)),
+                   c = input.V.row(input.F(t, 2));
+        const Vec2 fa = plane.flat(a), fb = plane.flat(b), fc = plane.flat(c);
+        if (cross2(fb - fa, fc - fa) <= 0) continue;  // facing away from the plane
+        const auto bary = barycentric(points[i], fa, fb, fc);
+        const bool inside = minOf(bary) >= -1e-12;
+        if (!inside && (std::isfinite(best) || minOf(bary) <= closest)) continue;
+        const auto on = clamped(bary);
+        const Vec3 x = on[0] * a + on[1] * b + on[2] * c;
+        if (inside && (x - old).norm() >= best) continue;
+        if (inside)
+          best = (x - old).norm();
+        else
+          closest = minOf(bary);
+        to[i] = x;
+        found[i] = {t, on};
+      }
+      if (found[i].triangle < 0) return false;
+    }
+    return true;
+  };
+  // Moves the movers, unless a triangle around one of them comes out bad.
+  auto moveIfGood = [&](const std::vector<int>& movers, const std::vector<Vec3>& to,
+                        const std::vector<Where>& found) {
+    std::vector<Vec3> oldPosition(movers.size());
+    std::vector<Where> oldWhere(movers.size());
+    for (std::size_t i = 0; i < movers.size(); ++i) {
+      oldPosition[i] = m.V.row(movers[i]);
+      oldWhere[i] = where[movers[i]];
+      m.V.row(movers[i]) = to[i].transpose();
+      where[movers[i]] = found[i];
+    }
+    bool good = true;
+    for (int v : movers) {
+      const IndexSpan ring = rings.ring(v);
+      const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
+      for (int j = 0; j < last && good; ++j) {
+        bool degenerate = false;
+        good = !badCorners(v, ring[j], ring[(j + 1) % ring.size()], degenerate);
+      }
+    }
+    if (!good)
+      for (std::size_t i = 0; i < movers.size(); ++i) {
+        m.V.row(movers[i]) = oldPosition[i].transpose();
+        where[movers[i]] = oldWhere[i];
+      }
+    return good;
+  };
+  // Second stage: the grid points within k rings of a corner of a bad triangle (the
+  // base vertex, if one is a corner) go to Tutte's embedding in the tangent plane
+  // there (each the average of its grid neighbours; the points k rings away and those
+  // held in place stay). The base vertex at the centre moves too unless a feature or
+  // boundary runs through it: the grid around it says where the middle of its
+  // neighbourhood is.
   const int numBase = static_cast<int>(out.base.V.rows());
+  std::vector<int> dist(m.V.rows(), -1), local(m.V.rows(), -1);
   auto resampleDisk = [&](int center, int k) {
     std::vector<int> order{center};
     dist[center] = 0;
@@ -853,15 +996,12 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
           order.push_back(w);
         }
     }
-    // A base vertex at the centre moves too, unless a feature or a boundary runs
-    // through it (then some grid neighbour of it is held): the grid around it says
-    // where the middle of its neighbourhood is.
     auto movable = [&](int v) {
       if (free[v]) return true;
-      if (v != center || v >= numBase) return false;
+      if (v != center || v >= numBase || rings.isBoundaryVertex(v)) return false;
       for (int w : rings.ring(v))
         if (!free[w]) return false;
-      return !rings.isBoundaryVertex(v);
+      return true;
     };
     std::vector<int> inner;
     for (int v : order)
@@ -877,14 +1017,11 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         for (int v : o) d[v] = l[v] = -1;
       }
     } reset{dist, local, order};
-    if (inner.empty()) { dbgWhy = 1; return false; }
+    if (inner.empty()) return false;
     Vec3 normal = reference(center);
     for (int v : inner) normal += reference(v);
-    const Vec3 origin = m.V.row(center);
-    if (!(normal.norm() > 0)) { dbgWhy = 2; return false; }
-    normal.normalize();
-    const Vec3 e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
-    auto flat = [&](const Vec3& x) { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); };
+    if (!(normal.norm() > 0)) return false;
+    const Plane plane(m.V.row(center).transpose(), normal.normalized());
     const int ni = static_cast<int>(inner.size());
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(ni, 2);
@@ -895,102 +1032,166 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         if (local[w] >= 0)
           entries.emplace_back(i, local[w], -1.0);
         else
-          rhs.row(i) += flat(m.V.row(w).transpose()).transpose();
+          rhs.row(i) += plane.flat(m.V.row(w).transpose()).transpose();
     }
     Eigen::SparseMatrix<double> A(ni, ni);
     A.setFromTriplets(entries.begin(), entries.end());
     const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
     const Eigen::MatrixX2d uv = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !uv.allFinite()) { dbgWhy = 3; return false; }
+    if (solver.info() != Eigen::Success || !uv.allFinite()) return false;
     auto at = [&](int v) -> Vec2 {
-      return local[v] >= 0 ? Vec2(uv.row(local[v]).transpose()) : flat(m.V.row(v).transpose());
+      return local[v] >= 0 ? Vec2(uv.row(local[v]).transpose())
+                           : plane.flat(m.V.row(v).transpose());
     };
-    {
-      int negs = 0, total = 0; std::string where2;
-      for (int v : inner) {
-        const IndexSpan ring = rings.ring(v);
-        const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
-        for (int j = 0; j < last; ++j) {
-          ++total;
-          if (cross2(at(ring[j]) - at(v), at(ring[(j + 1) % ring.size()]) - at(v)) <= 0) { ++negs; where2 += " " + std::to_string(dist[v]) + "/" + std::to_string(dist[ring[j]]) + "/" + std::to_string(dist[ring[(j+1)%ring.size()]]); }
-        }
-      }
-      if (negs) { if (std::getenv("OSDMRA_DEBUG") && k == 4) std::fprintf(stderr, "  k %d inner %d negs %d of %d at%s\n", k, ni, negs, total, where2.substr(0, 200).c_str()); dbgWhy = 4; return false; }
-    }
-    // The input nearby: triangles reachable from where the disk was sampled, within
-    // its extent, facing the plane.
-    double radius = 0;
-    for (int v : order) radius = std::max(radius, (m.V.row(v).transpose() - origin).norm());
-    radius *= 1.5;
-    ++disks;
-    std::vector<int> patch, stack;
-    auto visit = [&](int t) {
-      if (t >= 0 && triangleStamp[t] != disks) {
-        triangleStamp[t] = disks;
-        stack.push_back(t);
-      }
-    };
-    for (int v : order) visit(where[v].triangle);
-    while (!stack.empty()) {
-      const int t = stack.back();
-      stack.pop_back();
-      bool close = false;
-      for (int c = 0; c < 3; ++c)
-        close = close || (input.V.row(input.F(t, c)).transpose() - origin).norm() <= radius;
-      if (!close) continue;
-      patch.push_back(t);
-      for (int c = 0; c < 3; ++c) {
-        const int x = input.F(t, c);
-        if (vertexStamp[x] == disks) continue;
-        vertexStamp[x] = disks;
-        for (int q = inputFacesStart[x]; q < inputFacesStart[x + 1]; ++q) visit(inputFaces[q]);
-      }
-    }
-    std::vector<Vec3> to(ni);
-    std::vector<Where> found(ni);
-    for (int i = 0; i < ni; ++i) {
-      const Vec2 p = uv.row(i).transpose();
-      const Vec3 old = m.V.row(inner[i]);
-      double best = std::numeric_limits<double>::infinity();
-      for (int t : patch) {
-        const Vec3 a = input.V.row(input.F(t, 0)), b = input.V.row(input.F(t, 1)),
-                   c = input.V.row(input.F(t, 2));
-        const Vec2 fa = flat(a), fb = flat(b), fc = flat(c);
-        if (cross2(fb - fa, fc - fa) <= 0) continue;  // facing away from the plane
-        const auto bary = barycentric(p, fa, fb, fc);
-        if (minOf(bary) < -1e-12) continue;
-        const Vec3 x = bary[0] * a + bary[1] * b + bary[2] * c;
-        if ((x - old).norm() < best) {
-          best = (x - old).norm();
-          to[i] = x;
-          found[i] = {t, clamped(bary)};
-        }
-      }
-      if (found[i].triangle < 0) { dbgWhy = 5; return false; }
-    }
-    std::vector<Vec3> oldPosition(ni);
-    std::vector<Where> oldWhere(ni);
-    for (int i = 0; i < ni; ++i) {
-      oldPosition[i] = m.V.row(inner[i]);
-      oldWhere[i] = where[inner[i]];
-      m.V.row(inner[i]) = to[i].transpose();
-      where[inner[i]] = found[i];
-    }
-    bool good = true;
-    for (int v : inner) {
+    for (int v : inner) {  // it must be an embedding: positive around every moved point
       const IndexSpan ring = rings.ring(v);
       const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
-      for (int j = 0; j < last && good; ++j) {
-        bool degenerate = false;
-        good = !badCorners(v, ring[j], ring[(j + 1) % ring.size()], degenerate);
+      for (int j = 0; j < last; ++j)
+        if (cross2(at(ring[j]) - at(v), at(ring[(j + 1) % ring.size()]) - at(v)) <= 0) return false;
+    }
+    double radius = 0;
+    for (int v : order) radius = std::max(radius, (m.V.row(v).transpose() - plane.origin).norm());
+    std::vector<Vec2> points(ni);
+    for (int i = 0; i < ni; ++i) points[i] = uv.row(i).transpose();
+    std::vector<Vec3> to;
+    std::vector<Where> found;
+    return lift(plane, order, 1.5 * radius, points, inner, to, found) &&
+           moveIfGood(inner, to, found);
+  };
+  // Third stage (Freitag and Plassmann's untangling, on the surface): one point at a
+  // time to where the worst of its triangles is best in its tangent plane: the
+  // largest t with every ring edge at least t to its left (a linear programme in x,
+  // y, t whose optimum has three constraints tight). With t > 0 that is inside the
+  // ring's kernel and all its triangles come out positive; short of that the move is
+  // kept if it makes the worst of them less bad, and the rounds go on. Only the
+  // point's own triangles change.
+  // How good the triangles around v are: fewer bad ones first, then the worst one's
+  // signed sine against the reference.
+  auto quality = [&](int v) {
+    const IndexSpan ring = rings.ring(v);
+    const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
+    double worst = std::numeric_limits<double>::infinity();
+    int numBad = 0;
+    for (int j = 0; j < last; ++j) {
+      const int a = ring[j], b = ring[(j + 1) % ring.size()];
+      bool degenerate = false;
+      numBad += badCorners(v, a, b, degenerate);
+      const Vec3 x = m.V.row(v), p = m.V.row(a), q = m.V.row(b);
+      const Vec3 r = reference(v) + reference(a) + reference(b);
+      const double scale = (p - x).norm() * (q - x).norm() * r.norm();
+      worst = std::min(worst, scale > 0 ? (p - x).cross(q - x).dot(r) / scale : 0.0);
+    }
+    return std::make_pair(-numBad, worst);
+  };
+  auto placeInKernel = [&](int v) {
+    const IndexSpan ring = rings.ring(v);
+    const bool closed = !rings.isBoundaryVertex(v);
+    const int last = closed ? ring.size() : ring.size() - 1;
+    Vec3 normal = reference(v);
+    for (int w : ring) normal += reference(w);
+    if (last < 2 || !(normal.norm() > 0)) return false;
+    const Plane plane(m.V.row(v).transpose(), normal.normalized());
+    // Constraints n . x - t >= n . p: left of each ring edge p -> q, by t.
+    std::vector<Vec2> n;
+    std::vector<double> c;
+    double extent = 0;
+    for (int j = 0; j < last; ++j) {
+      const Vec2 p = plane.flat(m.V.row(ring[j]).transpose()),
+                 q = plane.flat(m.V.row(ring[(j + 1) % ring.size()]).transpose());
+      extent = std::max(extent, p.norm());
+      const Vec2 d = q - p;
+      if (!(d.norm() > 0)) return false;
+      n.push_back(Vec2(-d.y(), d.x()) / d.norm());
+      c.push_back(n.back().dot(p));
+    }
+    for (const Vec2& axis : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
+      n.push_back(-axis);  // and within the ring's extent (an open ring's kernel is not bounded)
+      c.push_back(-extent);
+    }
+    double bestT = -std::numeric_limits<double>::infinity();
+    Vec2 best = Vec2::Zero();
+    const int nc = static_cast<int>(n.size());
+    for (int i = 0; i < nc; ++i)
+      for (int j = i + 1; j < nc; ++j)
+        for (int k = j + 1; k < nc; ++k) {
+          Eigen::Matrix3d A;
+          A << n[i].x(), n[i].y(), -1, n[j].x(), n[j].y(), -1, n[k].x(), n[k].y(), -1;
+          const Eigen::Vector3d sol = A.fullPivLu().solve(Eigen::Vector3d(c[i], c[j], c[k]));
+          if (!sol.allFinite() || !(sol.z() > bestT)) continue;
+          bool feasible = (A * sol - Eigen::Vector3d(c[i], c[j], c[k])).norm() <= 1e-9 * extent;
+          for (int q = 0; q < nc && feasible; ++q)
+            feasible = n[q].dot(sol.head<2>()) - sol.z() >= c[q] - 1e-12 * extent;
+          if (!feasible) continue;
+          bestT = sol.z();
+          best = sol.head<2>();
+        }
+    if (!std::isfinite(bestT)) return false;
+    std::vector<int> seeds(ring.begin(), ring.end());
+    seeds.push_back(v);
+    std::vector<Vec3> to;
+    std::vector<Where> found;
+    if (!lift(plane, seeds, 1.5 * extent, {best}, {v}, to, found)) return false;
+    if (bestT > 0 && moveIfGood({v}, to, found)) return true;
+    const auto before = quality(v);
+    const Vec3 oldPosition = m.V.row(v);
+    const Where oldWhere = where[v];
+    m.V.row(v) = to[0].transpose();
+    where[v] = found[0];
+    if (quality(v) > before) return true;
+    m.V.row(v) = oldPosition.transpose();
+    where[v] = oldWhere;
+    return false;
+  };
+  // A point held on a feature line or a boundary (not a base vertex, but for one on
+  // a boundary alone) may still slide along it: towards either neighbour on the line, onto the
+  // input nearest, if that makes the worst of its triangles less bad. (On a scan's rough rim the
+  // samples of the line can zig-zag at the grid's scale, and no free point can make up for it.)
+  auto slide = [&](int v) {
+    if (free[v]) return false;
+    const IndexSpan ring = rings.ring(v);
+    std::array<int, 2> line{-1, -1};
+    if (rings.isBoundaryVertex(v)) {
+      // A base vertex on a boundary slides too, unless a feature also ends there.
+      for (int j = 1; v < numBase && j + 1 < ring.size(); ++j)
+        if (!free[ring[j]]) return false;
+      line = {ring[0], ring[ring.size() - 1]};
+    } else if (v < numBase) {
+      return false;
+    } else {
+      int count = 0;
+      for (int w : ring)
+        if (!free[w] && count++ < 2) line[count - 1] = w;
+      if (count != 2) return false;
+    }
+    const Vec3 from = m.V.row(v);
+    const Where fromWhere = where[v];
+    const auto before = quality(v);
+    auto bestQuality = before;
+    Vec3 bestPosition = from;
+    Where bestWhere = fromWhere;
+    for (int end : line)
+      for (double step : {0.1, 0.2, 0.3, 0.4}) {
+        const Vec3 target = (1 - step) * from + step * m.V.row(end).transpose();
+        const ClosestPoint cp = bvh.closestPoint(target);
+        if (inputNormal(cp.face).dot(reference(v)) <= 0) continue;  // the far side
+        std::array<double, 3> bary;
+        if (!barycentricIn(cp.face, cp.point, bary)) continue;
+        bool apart = true;  // onto a neighbour (a corner of the rim, say) is no way out
+        for (int w : ring)
+          apart = apart && (m.V.row(w).transpose() - cp.point).norm() > 1e-7 * diag;
+        if (!apart) continue;
+        m.V.row(v) = cp.point.transpose();
+        where[v] = {cp.face, bary};
+        const auto q = quality(v);
+        if (q > bestQuality) {
+          bestQuality = q;
+          bestPosition = cp.point;
+          bestWhere = where[v];
+        }
       }
-    }
-    if (good) return true;
-    for (int i = 0; i < ni; ++i) {
-      m.V.row(inner[i]) = oldPosition[i].transpose();
-      where[inner[i]] = oldWhere[i];
-    }
-    { dbgWhy = 6; return false; }
+    m.V.row(v) = bestPosition.transpose();
+    where[v] = bestWhere;
+    return bestQuality > before;
   };
   std::vector<Eigen::Index> left;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -1004,30 +1205,39 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     int center = m.F(f, 0);
     for (int c = 0; c < 3; ++c)
       if (m.F(f, c) < numBase) center = m.F(f, c);
-    std::string why;
-    for (int k = 2; k <= kMaxRings; ++k) {
-      if (resampleDisk(center, k)) { why += " ok"; break; }
-      why += " " + std::to_string(dbgWhy);
+    for (int k = 2; k <= kMaxRings; ++k)
+      if (resampleDisk(center, k)) break;
+  }
+  constexpr int kUntangleRounds = 40;
+  for (int round = 0; round < kUntangleRounds; ++round) {
+    std::vector<Eigen::Index> still;
+    for (Eigen::Index f : left) {
+      bool degenerate = false;
+      if (bad(f, degenerate)) still.push_back(f);
     }
-    if (std::getenv("OSDMRA_DEBUG")) std::fprintf(stderr, "disk f %ld center %d base %d free %d:%s\n", long(f), center, center < numBase, int(free[center]), why.c_str());
+    left.swap(still);
+    if (left.empty()) break;
+    // The free corners of what is bad, and their free neighbours.
+    std::vector<int> candidates;
+    for (Eigen::Index f : left)
+      for (int k = 0; k < 3; ++k) {
+        candidates.push_back(m.F(f, k));
+        for (int w : rings.ring(m.F(f, k))) candidates.push_back(w);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    bool moved = false;
+    for (int v : candidates)
+      if (free[v] ? placeInKernel(v) : slide(v)) moved = true;
+    if (!moved) break;
   }
   out.flippedTriangles = out.degenerateTriangles = 0;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
     bool degenerate = false;
     if (bad(f, degenerate)) ++(degenerate ? out.degenerateTriangles : out.flippedTriangles);
   }
-  if (std::getenv("OSDMRA_DEBUG")) {
-    std::vector<int> d(m.V.rows(), -1);
-    std::vector<int> q;
-    for (int v = 0; v < m.V.rows(); ++v) if (v < out.base.V.rows()) { d[v] = 0; q.push_back(v); }
-    for (std::size_t i = 0; i < q.size(); ++i) for (int w : rings.ring(q[i])) if (d[w] < 0) { d[w] = d[q[i]] + 1; q.push_back(w); }
-    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-      bool dg = false;
-      if (!bad(f, dg)) continue;
-      int dd = std::min({d[m.F(f,0)], d[m.F(f,1)], d[m.F(f,2)]});
-      std::fprintf(stderr, "bad %ld face %ld dist %d deg %d free %d%d%d\n", long(f), long(f / (m.F.rows() / out.base.F.rows())), dd, dg, free[m.F(f,0)], free[m.F(f,1)], free[m.F(f,2)]);
-    }
-  }
+  // The base mesh is the remeshed surface's level 0: where a disk moved a base vertex.
+  out.base.V = m.V.topRows(numBase);
   if (progress) progress("clean-up", 1.0);
 }
 
@@ -1186,8 +1396,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       for (int i = 0; i < 3; ++i) {
         const int e = charts.faceEdge(f, i);
         std::array<double, 3> b2;
-        const int t2 = edgeGrid[e].nearest(charts.inEdgeChart(e, f, b), b2, score,
-                                           [](int) { return true; });
+        const int t2 =
+            edgeGrid[e].nearest(charts.inEdgeChart(e, f, b), b2, score, [](int) { return true; });
         if (t2 >= 0) {
           t = t2;
           bary = b2;
@@ -1203,7 +1413,6 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
           bary = b2;
         }
       }
-      if (std::getenv("OSDMRA_DEBUG")) std::fprintf(stderr, "snap %d %g %g %g score %g t %d touches %d %d %d\n", f, b[0], b[1], b[2], score, t, t >= 0 ? touches[t][0] : -9, t >= 0 ? touches[t][1] : -9, t >= 0 ? touches[t][2] : -9);
       if (t < 0) {  // no input triangle anywhere near: the base face's own plane
         Vec3 p = Vec3::Zero();
         for (int i = 0; i < 3; ++i) p += b[i] * out.base.V.row(out.base.F(f, i)).transpose();

@@ -48,8 +48,10 @@ struct RemeshOptions {
 };
 
 struct Remeshing {
-  TriMesh mesh;          ///< the remeshed surface: M^levels over `base`, positions on the input
-  TriMesh base;          ///< the base mesh M^0 (its vertices are input vertices)
+  TriMesh mesh;  ///< the remeshed surface: M^levels over `base`, positions on the input
+  /// The base mesh M^0, the first vertices of `mesh`: input vertices, but for those the
+  /// clean-up moved (to another point of the input).
+  TriMesh base;
   int featureEdges = 0;  ///< input edges taken as features
   /// Grid points whose parameter fell outside every input triangle image and were
   /// snapped to the nearest one (a measure of parameterisation trouble; 0 is ideal).
