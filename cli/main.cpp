@@ -292,6 +292,7 @@ Json remeshJson(const Remeshed& r) {
       .add("snapped_samples", r.result.snappedSamples)
       .add("flipped_triangles", r.result.flippedTriangles)
       .add("degenerate_triangles", r.result.degenerateTriangles)
+      .add("self_intersections", r.result.selfIntersections)
       .add("rms_relative", r.distance.rmsRelative)
       .add("hausdorff_relative", r.distance.hausdorffRelative)
       .add("seconds", r.seconds);
@@ -300,10 +301,12 @@ Json remeshJson(const Remeshed& r) {
 void printRemesh(const std::string& in, const Remeshed& r) {
   std::printf(
       "%s: remeshed %d faces to %d over a base of %d faces (%d feature edges) in %.2f s; "
-      "distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box diagonal\n",
+      "distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box diagonal; "
+      "%d flipped, %d zero-area triangles, %lld crossing pairs\n",
       in.c_str(), r.inputFaces, static_cast<int>(r.result.mesh.F.rows()),
       static_cast<int>(r.result.base.F.rows()), r.result.featureEdges, r.seconds,
-      r.distance.rmsRelative, r.distance.hausdorffRelative);
+      r.distance.rmsRelative, r.distance.hausdorffRelative, r.result.flippedTriangles,
+      r.result.degenerateTriangles, r.result.selfIntersections);
 }
 
 // The surface a command works on: the file itself, or its remeshing with --remesh.

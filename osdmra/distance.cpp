@@ -335,6 +335,32 @@ ClosestPoint TriangleBvh::closestPoint(const Vec3& p) const {
   return ClosestPoint{std::sqrt(bestSq), bestPoint, faceOf_[bestTri]};
 }
 
+void TriangleBvh::facesInBox(const Vec3& lo, const Vec3& hi, std::vector<int>& faces) const {
+  auto meets = [&](const Node& nd) {
+    for (int k = 0; k < 3; ++k)
+      if (nd.hi[k] < lo[k] || nd.lo[k] > hi[k]) return false;
+    return true;
+  };
+  std::array<int, 64> stack;
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& nd = nodes_[stack[--top]];
+    if (!meets(nd)) continue;
+    if (nd.count == 0) {
+      stack[top++] = nd.first;
+      stack[top++] = static_cast<int>(&nd - nodes_.data()) + 1;
+      continue;
+    }
+    for (int i = nd.first; i < nd.first + nd.count; ++i) {
+      const Vec3 &a = corners_[3 * i], &b = corners_[3 * i + 1], &c = corners_[3 * i + 2];
+      if ((a.cwiseMin(b).cwiseMin(c).array() <= hi.array()).all() &&
+          (a.cwiseMax(b).cwiseMax(c).array() >= lo.array()).all())
+        faces.push_back(faceOf_[i]);
+    }
+  }
+}
+
 Points samplePoints(const TriMesh& mesh, int count, std::uint64_t seed, bool includeVertices) {
   checkMesh(mesh, "samplePoints");
   if (count < 0) throw Error("samplePoints: negative sample count " + std::to_string(count));

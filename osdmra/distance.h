@@ -79,6 +79,10 @@ class TriangleBvh {
   /// and some triangle.)
   ClosestPoint closestPoint(const Eigen::Vector3d& p) const;
 
+  /// Appends to `faces` every face whose bounding box meets the box [lo, hi].
+  void facesInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                  std::vector<int>& faces) const;
+
   int numTriangles() const { return static_cast<int>(faceOf_.size()); }
   int numNodes() const { return static_cast<int>(nodes_.size()); }
   /// Nodes on the longest root-to-leaf path (1 for a single leaf).

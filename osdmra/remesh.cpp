@@ -14,6 +14,7 @@
 #include "osdmra/connectivity.h"
 #include "osdmra/distance.h"
 #include "osdmra/error.h"
+#include "osdmra/self_intersection.h"
 
 namespace osdmra {
 
@@ -157,14 +158,28 @@ class Simplifier {
     // at such kinks), the vertex stays, like a vertex where lines meet; else a base
     // edge would cut the corner and the grid beside it fold.
     corner_.assign(n, 0);
-    std::vector<std::vector<int>> along(n);
+    std::vector<std::vector<int>> along(n), rim(n);
     for (std::uint64_t k : features_) {
       const int a = static_cast<int>(k >> 32), b = static_cast<int>(k & 0xffffffffu);
       along[a].push_back(b);
       along[b].push_back(a);
     }
-    // The turn is measured between points two edges away along the line, so that
-    // the zig-zag of a scanned crease is not a corner.
+    markCorners(m.V, along);
+    // Likewise where a boundary turns sharply: a base edge cutting that corner would
+    // leave slivers of base faces fanned into it.
+    for (int h = 0; h < 3 * c.numFaces(); ++h)
+      if (c.twin(h) < 0) {
+        rim[c.from(h)].push_back(c.to(h));
+        rim[c.to(h)].push_back(c.from(h));
+      }
+    markCorners(m.V, rim);
+  }
+
+  // Marks as corners the vertices where a line (its edges: `along`, two per vertex
+  // on the line) turns by more than kMaxTurn. The turn is measured between points two
+  // edges away along the line, so that the zig-zag of a scanned crease or rim is not
+  // a corner; and a kink on a short line is noise.
+  void markCorners(const Points& V, const std::vector<std::vector<int>>& along) {
     auto ahead = [&](int from, int next) {
       if (along[next].size() == 2) {
         const int after = along[next][0] == from ? along[next][1] : along[next][0];
@@ -184,16 +199,15 @@ class Simplifier {
       return count;
     };
     const double cosTurn = std::cos(kMaxTurn * kPi / 180.0);
-    for (int v = 0; v < n; ++v) {
-      // A kink on a short line is noise (the creases of a scan's rough rim).
+    for (int v = 0; v < static_cast<int>(along.size()); ++v) {
       if (along[v].size() != 2 ||
           length(v, along[v][0], 2 * kMinChain) + length(v, along[v][1], 2 * kMinChain) <
               2 * kMinChain)
         continue;
       const int p = ahead(v, along[v][0]), q = ahead(v, along[v][1]);
-      const Vec3 a = (m.V.row(v) - m.V.row(p)).transpose().normalized(),
-                 b = (m.V.row(q) - m.V.row(v)).transpose().normalized();
-      corner_[v] = a.dot(b) < cosTurn;
+      const Vec3 a = (V.row(v) - V.row(p)).transpose().normalized(),
+                 b = (V.row(q) - V.row(v)).transpose().normalized();
+      if (a.dot(b) < cosTurn) corner_[v] = 1;
     }
   }
 
@@ -417,7 +431,7 @@ class Simplifier {
     if (m < 2 || m > 24) return false;
     int nf = 0;
     for (int k = 0; k < m + (r.boundary ? 1 : 0); ++k) nf += isFeature(v, r.verts[k]);
-    if (r.boundary) return nf == 0 && m >= 2;
+    if (r.boundary) return nf == 0 && m >= 2 && !corner_[v];
     return m >= 3 && (nf == 0 || (nf == 2 && !corner_[v]));
   }
 
@@ -950,7 +964,38 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     }
     return true;
   };
-  // Moves the movers, unless a triangle around one of them comes out bad.
+  // The faces of the remeshed surface around each of its vertices, and those within
+  // two rings of a vertex (what a move of it could come to cross).
+  std::vector<int> facesStart(m.V.rows() + 1, 0), facesAt(3 * m.F.rows());
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++facesStart[m.F(f, k) + 1];
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) facesStart[v + 1] += facesStart[v];
+  {
+    std::vector<int> fill(facesStart.begin(), facesStart.end() - 1);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) facesAt[fill[m.F(f, k)]++] = static_cast<int>(f);
+  }
+  auto crossings = [&](int v) {
+    std::vector<int> around;
+    for (int q = facesStart[v]; q < facesStart[v + 1]; ++q)
+      for (int k = 0; k < 3; ++k) {
+        const int u = m.F(facesAt[q], k);
+        for (int w : rings.ring(u))
+          for (int r = facesStart[w]; r < facesStart[w + 1]; ++r) around.push_back(facesAt[r]);
+      }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    int count = 0;
+    for (int q = facesStart[v]; q < facesStart[v + 1]; ++q) {
+      const int f = facesAt[q];
+      for (int g : around)
+        count += g != f && trianglesMeet(m.V, {m.F(f, 0), m.F(f, 1), m.F(f, 2)},
+                                         {m.F(g, 0), m.F(g, 1), m.F(g, 2)});
+    }
+    return count;
+  };
+  // Moves the movers, unless a triangle around one of them comes out bad or crosses
+  // one nearby.
   auto moveIfGood = [&](const std::vector<int>& movers, const std::vector<Vec3>& to,
                         const std::vector<Where>& found) {
     std::vector<Vec3> oldPosition(movers.size());
@@ -970,6 +1015,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         good = !badCorners(v, ring[j], ring[(j + 1) % ring.size()], degenerate);
       }
     }
+    for (std::size_t i = 0; i < movers.size() && good; ++i) good = crossings(movers[i]) == 0;
     if (!good)
       for (std::size_t i = 0; i < movers.size(); ++i) {
         m.V.row(movers[i]) = oldPosition[i].transpose();
@@ -1065,13 +1111,14 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   // ring's kernel and all its triangles come out positive; short of that the move is
   // kept if it makes the worst of them less bad, and the rounds go on. Only the
   // point's own triangles change.
-  // How good the triangles around v are: fewer bad ones first, then the worst one's
-  // signed sine against the reference.
+  // How good the triangles around v are: fewer bad ones (turned over, of zero area, or
+  // crossing a triangle nearby) first, then the worst one's signed sine against the
+  // reference.
   auto quality = [&](int v) {
     const IndexSpan ring = rings.ring(v);
     const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
     double worst = std::numeric_limits<double>::infinity();
-    int numBad = 0;
+    int numBad = crossings(v);
     for (int j = 0; j < last; ++j) {
       const int a = ring[j], b = ring[(j + 1) % ring.size()];
       bool degenerate = false;
@@ -1146,6 +1193,64 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   // a boundary alone) may still slide along it: towards either neighbour on the line, onto the
   // input nearest, if that makes the worst of its triangles less bad. (On a scan's rough rim the
   // samples of the line can zig-zag at the grid's scale, and no free point can make up for it.)
+  // The input's boundary, for points on it: each input vertex's next and previous
+  // neighbours along its boundary loop (-1 inside).
+  const VertexRings inputRings(input.F, static_cast<int>(input.V.rows()));
+  auto triangleOf = [&](int a, int b) {  // the input triangle with edge (a, b)
+    for (int q = inputFacesStart[a]; q < inputFacesStart[a + 1]; ++q) {
+      const int t = inputFaces[q];
+      for (int k = 0; k < 3; ++k)
+        if (input.F(t, k) == b) return t;
+    }
+    return -1;
+  };
+  // From the boundary point `at`, `distance` along the input's boundary (direction
+  // +1: the way of its outgoing boundary edges). False if `at` is not on a boundary.
+  auto alongBoundary = [&](const Where& at, int direction, double distance, Where& to, Vec3& x) {
+    if (at.triangle < 0) return false;
+    // The boundary edge (a, b) it lies on, at fraction s from a, a -> b along `direction`.
+    int a = -1, b = -1;
+    double s = 0;
+    for (int k = 0; k < 3 && a < 0; ++k) {
+      const int p = input.F(at.triangle, k), q = input.F(at.triangle, (k + 1) % 3);
+      const int r = (k + 2) % 3;
+      if (at.bary[r] > 1e-9 || !inputRings.isBoundaryVertex(p) || !inputRings.isBoundaryVertex(q))
+        continue;
+      const IndexSpan ring = inputRings.ring(p);
+      const bool outgoing = ring[0] == q, incoming = ring[ring.size() - 1] == q;
+      if (!outgoing && !incoming) continue;
+      const double wq = at.bary[(k + 1) % 3] / std::max(at.bary[k] + at.bary[(k + 1) % 3], 1e-300);
+      if (outgoing == (direction > 0)) {
+        a = p, b = q, s = wq;
+      } else {
+        a = q, b = p, s = 1 - wq;
+      }
+    }
+    if (a < 0) return false;
+    for (int guard = 0; guard < 64; ++guard) {
+      const Vec3 pa = input.V.row(a), pb = input.V.row(b);
+      const double length = (pb - pa).norm(), left = (1 - s) * length;
+      if (distance <= left || guard == 63) {
+        const double t = length > 0 ? std::min(1.0, s + distance / length) : 1.0;
+        x = (1 - t) * pa + t * pb;
+        to.triangle = triangleOf(a, b);
+        if (to.triangle < 0) return false;
+        to.bary = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+          if (input.F(to.triangle, k) == a) to.bary[k] = 1 - t;
+          if (input.F(to.triangle, k) == b) to.bary[k] = t;
+        }
+        return true;
+      }
+      distance -= left;
+      const IndexSpan ring = inputRings.ring(b);
+      const int next = direction > 0 ? ring[0] : ring[ring.size() - 1];
+      a = b;
+      b = next;
+      s = 0;
+    }
+    return false;
+  };
   auto slide = [&](int v) {
     if (free[v]) return false;
     const IndexSpan ring = rings.ring(v);
@@ -1165,43 +1270,79 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     }
     const Vec3 from = m.V.row(v);
     const Where fromWhere = where[v];
+    double spacing = 0;
+    for (int end : line) spacing += 0.5 * (m.V.row(end).transpose() - from).norm();
+    // Where it may go: along the input's boundary itself, or towards either
+    // neighbour on a feature line, onto the input nearest.
+    std::vector<std::pair<Vec3, Where>> candidates;
+    if (rings.isBoundaryVertex(v)) {
+      for (int direction : {1, -1})
+        for (double step : {0.1, 0.2, 0.3, 0.4}) {
+          Where w;
+          Vec3 x;
+          if (alongBoundary(fromWhere, direction, step * spacing, w, x))
+            candidates.push_back({x, w});
+        }
+    } else {
+      for (int end : line)
+        for (double step : {0.1, 0.2, 0.3, 0.4}) {
+          const Vec3 target = (1 - step) * from + step * m.V.row(end).transpose();
+          const ClosestPoint cp = bvh.closestPoint(target);
+          if (inputNormal(cp.face).dot(reference(v)) <= 0) continue;  // the far side
+          std::array<double, 3> bary;
+          if (barycentricIn(cp.face, cp.point, bary))
+            candidates.push_back({cp.point, {cp.face, bary}});
+        }
+    }
     const auto before = quality(v);
     auto bestQuality = before;
     Vec3 bestPosition = from;
     Where bestWhere = fromWhere;
-    for (int end : line)
-      for (double step : {0.1, 0.2, 0.3, 0.4}) {
-        const Vec3 target = (1 - step) * from + step * m.V.row(end).transpose();
-        const ClosestPoint cp = bvh.closestPoint(target);
-        if (inputNormal(cp.face).dot(reference(v)) <= 0) continue;  // the far side
-        std::array<double, 3> bary;
-        if (!barycentricIn(cp.face, cp.point, bary)) continue;
-        bool apart = true;  // onto a neighbour (a corner of the rim, say) is no way out
-        for (int w : ring)
-          apart = apart && (m.V.row(w).transpose() - cp.point).norm() > 1e-7 * diag;
-        if (!apart) continue;
-        m.V.row(v) = cp.point.transpose();
-        where[v] = {cp.face, bary};
-        const auto q = quality(v);
-        if (q > bestQuality) {
-          bestQuality = q;
-          bestPosition = cp.point;
-          bestWhere = where[v];
-        }
+    for (const auto& [x, w] : candidates) {
+      bool apart = true;  // onto a neighbour (a corner of the rim, say) is no way out
+      for (int u : ring) apart = apart && (m.V.row(u).transpose() - x).norm() > 1e-7 * diag;
+      if (!apart) continue;
+      m.V.row(v) = x.transpose();
+      where[v] = w;
+      const auto q = quality(v);
+      if (q > bestQuality) {
+        bestQuality = q;
+        bestPosition = x;
+        bestWhere = w;
       }
+    }
     m.V.row(v) = bestPosition.transpose();
     where[v] = bestWhere;
     return bestQuality > before;
+  };
+  // What is left: bad triangles, and triangles crossing another (the clean-up above
+  // only looks at orientation; a fold can also lie flat over its neighbours).
+  auto faceCrosses = [&](Eigen::Index f) {
+    for (int k = 0; k < 3; ++k)
+      for (int w : rings.ring(m.F(f, k)))
+        for (int q = facesStart[w]; q < facesStart[w + 1]; ++q)
+          if (facesAt[q] != f &&
+              trianglesMeet(m.V, {m.F(f, 0), m.F(f, 1), m.F(f, 2)},
+                            {m.F(facesAt[q], 0), m.F(facesAt[q], 1), m.F(facesAt[q], 2)}))
+            return true;
+    return false;
+  };
+  auto defective = [&](Eigen::Index f) {
+    bool degenerate = false;
+    return bad(f, degenerate) || faceCrosses(f);
   };
   std::vector<Eigen::Index> left;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
     bool degenerate = false;
     if (bad(f, degenerate)) left.push_back(f);
   }
-  constexpr int kMaxRings = 8;
+  for (const auto& pair : findSelfIntersections(m, std::numeric_limits<int>::max()).pairs)
+    left.insert(left.end(), pair.begin(), pair.end());
+  std::sort(left.begin(), left.end());
+  left.erase(std::unique(left.begin(), left.end()), left.end());
+  constexpr int kMaxRings = 16;
   for (Eigen::Index f : left) {
-    bool degenerate = false;
-    if (!bad(f, degenerate)) continue;  // a disk around a neighbour fixed it
+    if (!defective(f)) continue;  // a disk around a neighbour fixed it
     int center = m.F(f, 0);
     for (int c = 0; c < 3; ++c)
       if (m.F(f, c) < numBase) center = m.F(f, c);
@@ -1211,13 +1352,11 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   constexpr int kUntangleRounds = 40;
   for (int round = 0; round < kUntangleRounds; ++round) {
     std::vector<Eigen::Index> still;
-    for (Eigen::Index f : left) {
-      bool degenerate = false;
-      if (bad(f, degenerate)) still.push_back(f);
-    }
+    for (Eigen::Index f : left)
+      if (defective(f)) still.push_back(f);
     left.swap(still);
     if (left.empty()) break;
-    // The free corners of what is bad, and their free neighbours.
+    // The corners of what is left, and their neighbours.
     std::vector<int> candidates;
     for (Eigen::Index f : left)
       for (int k = 0; k < 3; ++k) {
@@ -1227,8 +1366,12 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     bool moved = false;
-    for (int v : candidates)
-      if (free[v] ? placeInKernel(v) : slide(v)) moved = true;
+    for (int v : candidates) {
+      // A point on a boundary may, as a last resort, leave it for the inside (the
+      // boundary of the remeshed surface then cuts a notch of the input's rim).
+      const bool loose = v >= numBase && rings.isBoundaryVertex(v);
+      if (free[v] ? placeInKernel(v) : (slide(v) || (loose && placeInKernel(v)))) moved = true;
+    }
     if (!moved) break;
   }
   out.flippedTriangles = out.degenerateTriangles = 0;
@@ -1484,6 +1627,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
   inside.resize(positions.size(), 0);
   untangle(out, input, inside, where, progress);
+  out.selfIntersections = findSelfIntersections(out.mesh, 0).count;
   return out;
 }
 

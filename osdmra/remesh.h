@@ -59,6 +59,9 @@ struct Remeshing {
   /// Triangles of `mesh` left flipped (facing against the input where they lie) or
   /// of zero area after the clean-up pass; 0 is the goal (see remesh()).
   int flippedTriangles = 0, degenerateTriangles = 0;
+  /// Pairs of triangles of `mesh` that cross without being neighbours
+  /// (findSelfIntersections); 0 is the goal.
+  long long selfIntersections = 0;
 };
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).

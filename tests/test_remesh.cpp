@@ -1,9 +1,10 @@
 // Remeshing to subdivision connectivity (remesh.h): topology kept, the result has
-// exactly the requested structure, every sample lies on the input, and the distance
-// to the input stays within stated bounds on smooth shapes of genus 0, 1 and 2, open
-// and closed.
+// exactly the requested structure, no triangle flipped, of zero area or crossing
+// another, and the distance to the input stays within stated bounds on smooth shapes
+// of genus 0, 1 and 2, open and closed, on a cube's sharp edges and on a folded input.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <random>
 
 #include "osdmra/connectivity.h"
@@ -11,6 +12,7 @@
 #include "osdmra/error.h"
 #include "osdmra/recovery.h"
 #include "osdmra/remesh.h"
+#include "osdmra/self_intersection.h"
 #include "osdmra/shapes.h"
 
 using namespace osdmra;
@@ -81,9 +83,10 @@ TEST(Remesh, KeepsTopologyAndStaysClose) {
     const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
     EXPECT_LT(dist.rmsRelative, 2e-3) << dist.rmsRelative;
     EXPECT_LT(dist.hausdorffRelative, 2e-2) << dist.hausdorffRelative;
-    // No triangle turned over or of zero area.
+    // No triangle turned over, of zero area, or crossing another.
     EXPECT_EQ(r.degenerateTriangles, 0);
     EXPECT_EQ(r.flippedTriangles, 0);
+    EXPECT_EQ(r.selfIntersections, 0);
     // The base mesh is the remeshed surface's level 0, and on the input.
     EXPECT_EQ(r.base.V, r.mesh.V.topRows(r.base.V.rows()));
     const TriangleBvh bvh(input);
@@ -122,6 +125,43 @@ TEST(Remesh, SharpFeatureEdgesStayEdges) {
   EXPECT_LT(dist.hausdorffRelative, 2e-3) << dist.hausdorffRelative;
   EXPECT_LT(4 * dist.hausdorffRelative, cut.hausdorffRelative)
       << dist.hausdorffRelative << " with features, " << cut.hausdorffRelative << " without";
+}
+
+TEST(Remesh, FoldedInputComesOutClean) {
+  // A scan's fold: one vertex dragged across the far edge of one of its triangles, so
+  // that the triangle faces against its corners' normals (and overlaps its
+  // neighbour). The remeshed surface has no such triangle, and crosses nowhere.
+  TriMesh input = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  const Connectivity c(input.F, static_cast<int>(input.V.rows()));
+  const int v = 100;
+  const IndexSpan ring = c.ring(v);
+  const Eigen::RowVector3d mid = 0.5 * (input.V.row(ring[0]) + input.V.row(ring[1]));
+  input.V.row(v) = mid + 0.3 * (mid - input.V.row(v));
+  // The precondition: some face of the input now faces against its corners' normals.
+  Points normals = Points::Zero(input.V.rows(), 3);
+  std::vector<Eigen::Vector3d> faceNormal(input.F.rows());
+  for (Eigen::Index f = 0; f < input.F.rows(); ++f) {
+    const Eigen::Vector3d a = input.V.row(input.F(f, 0)), b = input.V.row(input.F(f, 1)),
+                          cc = input.V.row(input.F(f, 2));
+    faceNormal[f] = (b - a).cross(cc - a);
+    for (int k = 0; k < 3; ++k) normals.row(input.F(f, k)) += faceNormal[f].transpose();
+  }
+  int folds = 0;
+  for (Eigen::Index f = 0; f < input.F.rows(); ++f) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) sum += normals.row(input.F(f, k)).transpose();
+    folds += faceNormal[f].dot(sum) <= 0;
+  }
+  ASSERT_GE(folds, 1);
+  RemeshOptions o;
+  o.baseFaces = 60;
+  o.levels = 3;
+  const Remeshing r = remesh(input, o);
+  EXPECT_EQ(r.flippedTriangles, 0);
+  EXPECT_EQ(r.degenerateTriangles, 0);
+  EXPECT_EQ(r.selfIntersections, 0);
+  EXPECT_EQ(findSelfIntersections(r.mesh).count, 0);
+  EXPECT_EQ(topology(r.mesh).euler, 2);
 }
 
 TEST(Remesh, RejectsBadOptions) {

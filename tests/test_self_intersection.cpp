@@ -1,0 +1,110 @@
+// Self-intersection (self_intersection.h) and the box query of the distance BVH it
+// rests on: closed surfaces have none, crossing and folded pairs are found, pairs
+// sharing an edge are never reported, and the box query matches brute force.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+#include "osdmra/distance.h"
+#include "osdmra/error.h"
+#include "osdmra/self_intersection.h"
+#include "osdmra/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+TriMesh twoTriangles(const Eigen::Matrix<double, 6, 3>& corners, const Faces& faces) {
+  TriMesh m;
+  m.V = corners;
+  m.F = faces;
+  return m;
+}
+
+}  // namespace
+
+TEST(SelfIntersection, ClosedSurfacesHaveNone) {
+  for (const TriMesh& base : {shapes::icosahedron(), shapes::torus(), shapes::slab(2)}) {
+    const TriMesh m = subdivide(base, 3, Scheme::Loop);
+    const SelfIntersections s = findSelfIntersections(m);
+    EXPECT_EQ(s.count, 0);
+    EXPECT_TRUE(s.pairs.empty());
+  }
+}
+
+TEST(SelfIntersection, CrossingPairWithoutCommonVertex) {
+  Eigen::Matrix<double, 6, 3> v;
+  v << 0, 0, 0, 2, 0, 0, 0, 2, 0,          // in the plane z = 0
+      0.5, 0.5, -1, 0.5, 0.5, 1, 3, 3, 0;  // pierces it at (0.5, 0.5, 0)
+  Faces f(2, 3);
+  f << 0, 1, 2, 3, 4, 5;
+  const SelfIntersections s = findSelfIntersections(twoTriangles(v, f));
+  EXPECT_EQ(s.count, 1);
+  ASSERT_EQ(s.pairs.size(), 1u);
+  EXPECT_EQ(s.pairs[0], (std::array<int, 2>{0, 1}));
+  // Moved off: none.
+  v.row(3) << 5, 5, -1;
+  v.row(4) << 5, 5, 1;
+  EXPECT_EQ(findSelfIntersections(twoTriangles(v, f)).count, 0);
+}
+
+TEST(SelfIntersection, FoldAtACommonVertex) {
+  // Two faces sharing vertex 0: the second folds back through the first.
+  Eigen::Matrix<double, 6, 3> v;
+  v << 0, 0, 0, 2, 0, 0, 0, 2, 0, 1, 0.2, -1, 0.2, 1, 1, 9, 9, 9;
+  Faces f(2, 3);
+  f << 0, 1, 2, 0, 3, 4;
+  EXPECT_EQ(findSelfIntersections(twoTriangles(v, f)).count, 1);
+  // Opened out (both in their own half-spaces): none.
+  v.row(3) << -1, -1, 0;
+  v.row(4) << -2, 0.5, 0.3;
+  EXPECT_EQ(findSelfIntersections(twoTriangles(v, f)).count, 0);
+}
+
+TEST(SelfIntersection, FacesSharingAnEdgeAreNotTested) {
+  // Folded flat onto each other across their common edge: a flip, not a crossing.
+  Eigen::Matrix<double, 6, 3> v;
+  v << 0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 1, 0, 9, 9, 9, 9, 9, 8;
+  Faces f(2, 3);
+  f << 0, 1, 2, 1, 0, 3;
+  EXPECT_EQ(findSelfIntersections(twoTriangles(v, f)).count, 0);
+}
+
+TEST(SelfIntersection, VertexPushedThroughTheSurface) {
+  TriMesh m = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  // A vertex dragged through the centre to beyond the far side: its faces now cross
+  // the faces there.
+  m.V.row(0) = -1.5 * m.V.row(0);
+  const SelfIntersections s = findSelfIntersections(m, 4);
+  EXPECT_GT(s.count, 0);
+  EXPECT_EQ(s.pairs.size(), std::min<std::size_t>(4, static_cast<std::size_t>(s.count)));
+  for (const auto& p : s.pairs) EXPECT_LT(p[0], p[1]);
+  EXPECT_THROW(findSelfIntersections(TriMesh{}), Error);
+}
+
+TEST(DistanceBvh, FacesInBoxMatchesBruteForce) {
+  const TriMesh m = subdivide(shapes::torus(), 2, Scheme::Loop, 0.05, 3);
+  const TriangleBvh bvh(m);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.5, 1.5), size(0.0, 0.4);
+  for (int q = 0; q < 200; ++q) {
+    const Eigen::Vector3d lo(u(rng), u(rng), u(rng) / 3);
+    const Eigen::Vector3d hi = lo + Eigen::Vector3d(size(rng), size(rng), size(rng));
+    std::vector<int> got;
+    bvh.facesInBox(lo, hi, got);
+    std::sort(got.begin(), got.end());
+    std::vector<int> want;
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = a;
+      for (int k = 1; k < 3; ++k) {
+        a = a.cwiseMin(m.V.row(m.F(f, k)).transpose());
+        b = b.cwiseMax(m.V.row(m.F(f, k)).transpose());
+      }
+      if ((a.array() <= hi.array()).all() && (b.array() >= lo.array()).all())
+        want.push_back(static_cast<int>(f));
+    }
+    EXPECT_EQ(got, want) << "box " << q;
+  }
+}
