@@ -11,17 +11,29 @@
 //    so genus, boundary loops and components are kept. Feature edges (dihedral angle
 //    above a threshold) are kept as edges: a vertex on a feature line is removed as
 //    two half-disks whose retriangulations share the edge between its two feature
-//    neighbours; corners of features are never removed. The result is a base mesh
-//    M^0 of about the requested size, every input vertex at a point of it.
+//    neighbours; corners of features (where lines meet or turn sharply) and sharp
+//    turns of boundaries are never removed, and a scan's folds (triangles facing
+//    against their corners' normals) go first. The result is a base mesh M^0 of
+//    about the requested size, every input vertex at a point of it.
 // 2. Resampling. Each base face is split J times (a regular grid of 2^J segments per
 //    edge); every grid point is located in the parameterised input (an input
-//    triangle whose parameter image contains it, in the chart of its base face or,
-//    for input triangles that straddle base faces, in the conformal chart around a
-//    shared base vertex) and placed at the corresponding point of the input surface.
-// 3. Clean-up. Where the parameterisation folded or collapsed (a few hundred grid
-//    triangles in 300,000 on scans), triangles come out flipped or of zero area;
-//    the grid points inside base faces around them are moved to the closest input
-//    point of their neighbours' centroid until none is left (or a few rounds pass).
+//    triangle whose parameter image contains it) and placed at the corresponding
+//    point of the input surface. Input triangles are laid out in the chart of their
+//    base face when their corners all lie in it, else in the chart of the base edge
+//    they straddle (its two faces unfolded, isometric to both face charts, so there
+//    is no crack along base edges), else in the chart of a base vertex they surround.
+// 3. Clean-up. Where the parameterisation folds (composed flattenings bend a large
+//    input triangle; a base vertex's neighbours end up on one side of it), output
+//    triangles come out flipped (facing against the input's normals where their
+//    corners were sampled), of zero area, or crossing others. Three stages repair
+//    them: free grid points around them go to the input point nearest their
+//    neighbours' centroid; disks around what is left are resampled from their tangent
+//    plane (Tutte's embedding, lifted back onto the input); then points go one at a
+//    time to where the worst of their triangles is best (Freitag and Plassmann's
+//    untangling, on the surface), points on feature lines and boundaries sliding
+//    along them. The last two keep a move only if it makes nothing worse nearby. remesh() reports what
+//    remains (none on the scans of docs/REMESH.md at the defaults; some at other
+//    sizes, listed there).
 //
 // The output has subdivision connectivity in its own vertex and face order: the
 // rest of osdmra recovers its structure (recovery.h).

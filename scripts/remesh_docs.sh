@@ -7,8 +7,8 @@
 set -eu
 build=${1:-build}
 scans=${SCANS:-../shared/data/scans}
-echo "| mesh | input vertices | input faces | base faces | levels | output faces | feature edges | RMS | Hausdorff | flipped | zero-area | time (s) |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+echo "| mesh | input vertices | input faces | base faces | levels | output faces | feature edges | RMS | Hausdorff | flipped | zero-area | crossing pairs | time (s) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for name in stanford-bunny spot rocker-arm fandisk; do
   out=/tmp/osdmra-remesh-$name.obj
   json=$("$build/osdmra" remesh "$scans/$name.obj" --base-faces 300 --levels 5 -o "$out" --json)
@@ -18,7 +18,7 @@ n, j = sys.argv[1], json.loads(sys.argv[2])
 print(f"| {n} | {j['input_vertices']:,} | {j['input_faces']:,} | {j['base_faces']} | {j['levels']} | "
       f"{j['faces']:,} | {j['feature_edges']} | {100*j['rms_relative']:.4f}% | "
       f"{100*j['hausdorff_relative']:.3f}% | {j['flipped_triangles']} | {j['degenerate_triangles']} | "
-      f"{j['seconds']:.2f} |")
+      f"{j['self_intersections']} | {j['seconds']:.2f} |")
 PY
   if [ -x "$build/viewer/osdmra-viewer" ]; then
     if [ -z "${DISPLAY:-}" ]; then
