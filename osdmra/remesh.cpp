@@ -780,7 +780,8 @@ struct Where {
 // the other side. Free grid points around bad triangles move to the input point
 // nearest to their neighbours' centroid, unless that point faces the other way.
 void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
-              std::vector<Where>& where, const Progress& progress) {
+              const std::vector<long long>& line, std::vector<Where>& where,
+              const Progress& progress) {
   const TriangleBvh bvh(input);
   const double diag = boundingBoxDiagonal(input.V);
   const double tinyArea = 1e-14 * diag * diag;
@@ -1254,24 +1255,25 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   auto slide = [&](int v) {
     if (free[v]) return false;
     const IndexSpan ring = rings.ring(v);
-    std::array<int, 2> line{-1, -1};
+    std::array<int, 2> ends{-1, -1};
     if (rings.isBoundaryVertex(v)) {
       // A base vertex on a boundary slides too, unless a feature also ends there.
       for (int j = 1; v < numBase && j + 1 < ring.size(); ++j)
         if (!free[ring[j]]) return false;
-      line = {ring[0], ring[ring.size() - 1]};
+      ends = {ring[0], ring[ring.size() - 1]};
     } else if (v < numBase) {
       return false;
     } else {
+      // Its neighbours on the same base edge, or the base vertex at the edge's end.
       int count = 0;
       for (int w : ring)
-        if (!free[w] && count++ < 2) line[count - 1] = w;
+        if (!free[w] && (line[w] == line[v] || w < numBase) && count++ < 2) ends[count - 1] = w;
       if (count != 2) return false;
     }
     const Vec3 from = m.V.row(v);
     const Where fromWhere = where[v];
     double spacing = 0;
-    for (int end : line) spacing += 0.5 * (m.V.row(end).transpose() - from).norm();
+    for (int end : ends) spacing += 0.5 * (m.V.row(end).transpose() - from).norm();
     // Where it may go: along the input's boundary itself, or towards either
     // neighbour on a feature line, onto the input nearest.
     std::vector<std::pair<Vec3, Where>> candidates;
@@ -1284,7 +1286,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
             candidates.push_back({x, w});
         }
     } else {
-      for (int end : line)
+      for (int end : ends)
         for (double step : {0.1, 0.2, 0.3, 0.4}) {
           const Vec3 target = (1 - step) * from + step * m.V.row(end).transpose();
           const ClosestPoint cp = bvh.closestPoint(target);
@@ -1501,7 +1503,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   const long long nbv = out.base.V.rows();
   std::unordered_map<std::uint64_t, int> edgePoint;
   std::vector<Vec3> positions;
-  std::vector<char> inside;  // grid points free to move in the clean-up
+  std::vector<char> inside;     // grid points free to move in the clean-up
+  std::vector<long long> line;  // for points on base edges: the edge (-1 elsewhere)
   for (int v = 0; v < nbv; ++v) positions.push_back(out.base.V.row(v).transpose());
   std::vector<std::array<int, 3>> faces;
   // Where each output vertex lies on the input: a triangle and barycentric
@@ -1604,6 +1607,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
             // Free to move in the clean-up unless the edge is a feature or a boundary.
             inside.resize(positions.size(), 0);
             inside.back() = !s.featureEdge(inputOf[p], inputOf[q]) && !charts.boundaryEdge(p, q);
+            line.resize(positions.size(), -1);
+            line.back() = static_cast<long long>(p) * nbv + q;
           }
           slot = it->second;
         } else {
@@ -1626,7 +1631,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
   inside.resize(positions.size(), 0);
-  untangle(out, input, inside, where, progress);
+  line.resize(positions.size(), -1);
+  untangle(out, input, inside, line, where, progress);
   out.selfIntersections = findSelfIntersections(out.mesh, 0).count;
   return out;
 }
