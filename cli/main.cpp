@@ -70,7 +70,8 @@ commands:
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
-                               on the input; reports the distance to the input
+                               on the input; reports the distance to the input and
+                               any flipped, zero-area or crossing triangles left
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]

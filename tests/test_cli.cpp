@@ -261,7 +261,8 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
       run("remesh " + path("t3.obj") + " --base-faces 100 --levels 2 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* key : {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
-                          "\"unreferenced_vertices_dropped\": 1"})
+                          "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
+                          "\"degenerate_triangles\": 0", "\"self_intersections\": 0"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
   const TriMesh m = readValidMesh(path("r.ply"));
   EXPECT_EQ(m.F.rows() % 16, 0);
