@@ -768,6 +768,22 @@ class TriangleGrid {
   int n_ = 1;
 };
 
+// The faces around each vertex: faces[start[v]], ..., faces[start[v + 1] - 1], in face
+// order (a cheap incidence list; Connectivity also orders them, at more cost).
+struct FacesAround {
+  std::vector<int> start, faces;
+};
+FacesAround facesAround(const Faces& F, Eigen::Index numVertices) {
+  FacesAround out{std::vector<int>(numVertices + 1, 0), std::vector<int>(3 * F.rows())};
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++out.start[F(f, k) + 1];
+  for (Eigen::Index v = 0; v < numVertices; ++v) out.start[v + 1] += out.start[v];
+  std::vector<int> fill(out.start.begin(), out.start.end() - 1);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) out.faces[fill[F(f, k)]++] = static_cast<int>(f);
+  return out;
+}
+
 // A point of the input: triangle and barycentric coordinates (triangle -1: none).
 struct Where {
   int triangle = -1;
@@ -888,15 +904,9 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   // lifted back along its normal onto the input triangles nearby that face it. Where
   // the input is a height field over the plane that keeps the orientation, and each
   // move is kept only if no triangle around the moved points is bad afterwards.
-  std::vector<int> inputFacesStart(input.V.rows() + 1, 0), inputFaces(3 * input.F.rows());
-  for (Eigen::Index t = 0; t < input.F.rows(); ++t)
-    for (int k = 0; k < 3; ++k) ++inputFacesStart[input.F(t, k) + 1];
-  for (Eigen::Index v = 0; v < input.V.rows(); ++v) inputFacesStart[v + 1] += inputFacesStart[v];
-  {
-    std::vector<int> fill(inputFacesStart.begin(), inputFacesStart.end() - 1);
-    for (Eigen::Index t = 0; t < input.F.rows(); ++t)
-      for (int k = 0; k < 3; ++k) inputFaces[fill[input.F(t, k)]++] = static_cast<int>(t);
-  }
+  const FacesAround inputAround = facesAround(input.F, input.V.rows());
+  const std::vector<int>& inputFacesStart = inputAround.start;
+  const std::vector<int>& inputFaces = inputAround.faces;
   struct Plane {
     Vec3 origin, e1, e2;
     Plane(const Vec3& o, const Vec3& normal)
@@ -967,15 +977,9 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   };
   // The faces of the remeshed surface around each of its vertices, and those within
   // two rings of a vertex (what a move of it could come to cross).
-  std::vector<int> facesStart(m.V.rows() + 1, 0), facesAt(3 * m.F.rows());
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++facesStart[m.F(f, k) + 1];
-  for (Eigen::Index v = 0; v < m.V.rows(); ++v) facesStart[v + 1] += facesStart[v];
-  {
-    std::vector<int> fill(facesStart.begin(), facesStart.end() - 1);
-    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) facesAt[fill[m.F(f, k)]++] = static_cast<int>(f);
-  }
+  const FacesAround outputAround = facesAround(m.F, m.V.rows());
+  const std::vector<int>& facesStart = outputAround.start;
+  const std::vector<int>& facesAt = outputAround.faces;
   auto crossings = [&](int v) {
     std::vector<int> around;
     for (int q = facesStart[v]; q < facesStart[v + 1]; ++q)
