@@ -156,7 +156,7 @@ class Simplifier {
     featureCount_ = static_cast<int>(features_.size());
     // Corners of feature lines: where a line turns sharply (the fandisk's creases meet
     // at such kinks), the vertex stays, like a vertex where lines meet; else a base
-    // edge would cut the corner and the grid beside it fold.
+    // edge would cut the corner and the grid beside it fold. (Boundaries below.)
     corner_.assign(n, 0);
     std::vector<std::vector<int>> along(n), rim(n);
     for (std::uint64_t k : features_) {
@@ -593,7 +593,7 @@ class Simplifier {
   std::vector<std::vector<int>> vertFaces_, facePoints_;
   std::vector<Param> param_;
   std::vector<char> removed_, fold_, corner_;
-  // Largest turn of a feature line at a removable vertex, in degrees.
+  // Largest turn of a feature line or a boundary at a removable vertex, in degrees.
   static constexpr double kMaxTurn = 40.0;
   std::unordered_set<std::uint64_t> features_;
   int aliveFaces_ = 0, featureCount_ = 0;
