@@ -1450,6 +1450,22 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       touches[t] = {g, g, g};
       placed = true;
     }
+    // In a chart made of the faces `around`: each corner taken in its own face if that
+    // is one of them, else in the first of them that holds it.
+    std::array<Vec2, 3> tri;
+    std::array<int, 3> faces;
+    auto inChart = [&](const std::vector<int>& around, const auto& chartPoint) {
+      for (int k = 0; k < 3; ++k) {
+        const Param& p = params[v[k]];
+        faces[k] = std::find(around.begin(), around.end(), p.face) != around.end() ? p.face : -1;
+        if (faces[k] >= 0) b[k] = p.bary;
+        for (std::size_t q = 0; q < around.size() && faces[k] < 0; ++q)
+          if (expressIn(p, around[q], b[k])) faces[k] = around[q];
+        if (faces[k] < 0) return false;
+        tri[k] = chartPoint(faces[k], b[k]);
+      }
+      return true;
+    };
     for (int c = 0; c < 3 && !placed; ++c)
       for (int i = 0; i < 3 && !placed; ++i) {
         const int e = charts.faceEdge(params[v[c]].face, i);
@@ -1458,40 +1474,20 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
         // must not find one that does (the vertex charts keep to a face's side).
         const std::array<int, 2> ends = charts.edgeVertices(e);
         if (two[1] < 0 || s.featureEdge(inputOf[ends[0]], inputOf[ends[1]])) continue;
-        std::array<Vec2, 3> tri;
-        std::array<int, 3> faces{-1, -1, -1};
-        for (int k = 0; k < 3; ++k) {
-          for (int g : two)
-            if (faces[k] < 0 && expressIn(params[v[k]], g, b[k])) faces[k] = g;
-          if (faces[k] < 0) break;
-          tri[k] = charts.inEdgeChart(e, faces[k], b[k]);
-        }
-        if (faces[0] < 0 || faces[1] < 0 || faces[2] < 0) continue;
+        if (!inChart({two[0], two[1]}, [&](int g, const std::array<double, 3>& x) {
+              return charts.inEdgeChart(e, g, x);
+            }))
+          continue;
         edgeGrid[e].add(tri, static_cast<int>(t));
         touches[t] = faces;
         placed = true;
       }
     for (int i = 0; i < 3 && !placed; ++i) {
       const int w = out.base.F(params[v[0]].face, i);
-      std::array<Vec2, 3> tri;
-      std::array<int, 3> faces{-1, -1, -1};
-      for (int k = 0; k < 3; ++k) {
-        // The corner's own face if it has w, else a face around w that holds it.
-        const Param& p = params[v[k]];
-        if (charts.hasCorner(p.face, w)) {
-          faces[k] = p.face;
-          b[k] = p.bary;
-        } else {
-          for (int g : charts.facesAround(w))
-            if (expressIn(p, g, b[k])) {
-              faces[k] = g;
-              break;
-            }
-        }
-        if (faces[k] < 0) break;
-        tri[k] = charts.aroundVertex(w, faces[k], b[k]);
-      }
-      if (faces[2] < 0 || faces[1] < 0 || faces[0] < 0) continue;
+      if (!inChart(charts.facesAround(w), [&](int g, const std::array<double, 3>& x) {
+            return charts.aroundVertex(w, g, x);
+          }))
+        continue;
       vertexGrid[w].add(tri, static_cast<int>(t));
       touches[t] = faces;
       placed = true;
