@@ -999,6 +999,25 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     }
     return count;
   };
+  // How good the triangles around v are: fewer bad ones (turned over, of zero area, or
+  // crossing a triangle nearby) first, then the worst one's signed sine against the
+  // reference.
+  auto quality = [&](int v) {
+    const IndexSpan ring = rings.ring(v);
+    const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
+    double worst = std::numeric_limits<double>::infinity();
+    int numBad = crossings(v);
+    for (int j = 0; j < last; ++j) {
+      const int a = ring[j], b = ring[(j + 1) % ring.size()];
+      bool degenerate = false;
+      numBad += badCorners(v, a, b, degenerate);
+      const Vec3 x = m.V.row(v), p = m.V.row(a), q = m.V.row(b);
+      const Vec3 r = reference(v) + reference(a) + reference(b);
+      const double scale = (p - x).norm() * (q - x).norm() * r.norm();
+      worst = std::min(worst, scale > 0 ? (p - x).cross(q - x).dot(r) / scale : 0.0);
+    }
+    return std::make_pair(-numBad, worst);
+  };
   // Moves the movers, unless a triangle around one of them comes out bad or crosses
   // one nearby.
   auto moveIfGood = [&](const std::vector<int>& movers, const std::vector<Vec3>& to,
@@ -1012,15 +1031,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       where[movers[i]] = found[i];
     }
     bool good = true;
-    for (int v : movers) {
-      const IndexSpan ring = rings.ring(v);
-      const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
-      for (int j = 0; j < last && good; ++j) {
-        bool degenerate = false;
-        good = !badCorners(v, ring[j], ring[(j + 1) % ring.size()], degenerate);
-      }
-    }
-    for (std::size_t i = 0; i < movers.size() && good; ++i) good = crossings(movers[i]) == 0;
+    for (std::size_t i = 0; i < movers.size() && good; ++i) good = quality(movers[i]).first == 0;
     if (!good)
       for (std::size_t i = 0; i < movers.size(); ++i) {
         m.V.row(movers[i]) = oldPosition[i].transpose();
@@ -1116,25 +1127,6 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   // ring's kernel and all its triangles come out positive; short of that the move is
   // kept if it makes the worst of them less bad, and the rounds go on. Only the
   // point's own triangles change.
-  // How good the triangles around v are: fewer bad ones (turned over, of zero area, or
-  // crossing a triangle nearby) first, then the worst one's signed sine against the
-  // reference.
-  auto quality = [&](int v) {
-    const IndexSpan ring = rings.ring(v);
-    const int last = rings.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
-    double worst = std::numeric_limits<double>::infinity();
-    int numBad = crossings(v);
-    for (int j = 0; j < last; ++j) {
-      const int a = ring[j], b = ring[(j + 1) % ring.size()];
-      bool degenerate = false;
-      numBad += badCorners(v, a, b, degenerate);
-      const Vec3 x = m.V.row(v), p = m.V.row(a), q = m.V.row(b);
-      const Vec3 r = reference(v) + reference(a) + reference(b);
-      const double scale = (p - x).norm() * (q - x).norm() * r.norm();
-      worst = std::min(worst, scale > 0 ? (p - x).cross(q - x).dot(r) / scale : 0.0);
-    }
-    return std::make_pair(-numBad, worst);
-  };
   auto placeInKernel = [&](int v) {
     const IndexSpan ring = rings.ring(v);
     const bool closed = !rings.isBoundaryVertex(v);
