@@ -15,6 +15,7 @@
 #include "osdmra/distance.h"
 #include "osdmra/error.h"
 #include "osdmra/self_intersection.h"
+#include "osdmra/surface_walk.h"
 
 namespace osdmra {
 
@@ -42,15 +43,6 @@ std::array<double, 3> barycentric(const Vec2& p, const Vec2& a, const Vec2& b, c
 
 double minOf(const std::array<double, 3>& b) {
   return std::min({b[0], b[1], b[2]});
-}
-
-// Clamps barycentric coordinates into the triangle.
-std::array<double, 3> clamped(std::array<double, 3> b) {
-  double sum = 0;
-  for (double& x : b) sum += x = std::max(x, 0.0);
-  if (sum <= 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  for (double& x : b) x /= sum;
-  return b;
 }
 
 double cross2(const Vec2& a, const Vec2& b) {
@@ -154,6 +146,8 @@ class Simplifier {
     }
     pruneShortFeatureChains(n);
     featureCount_ = static_cast<int>(features_.size());
+    for (std::uint64_t k : features_)
+      inputFeatures_.push_back({static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)});
     // Corners of feature lines: where a line turns sharply (the fandisk's creases meet
     // at such kinks), the vertex stays, like a vertex where lines meet; else a base
     // edge would cut the corner and the grid beside it fold. (Boundaries below.)
@@ -250,6 +244,8 @@ class Simplifier {
   }
 
   int featureCount() const { return featureCount_; }
+  /// The input's feature edges (as found before simplification), by edgeKey.
+  const std::vector<std::array<int, 2>>& inputFeatures() const { return inputFeatures_; }
   /// Whether the edge between input vertices a and b is a feature (now).
   bool featureEdge(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   int aliveFaces() const { return aliveFaces_; }
@@ -573,7 +569,7 @@ class Simplifier {
           best = static_cast<int>(q);
         }
       }
-      param_[mv.point] = {newFaces[best], clamped(bestBary)};
+      param_[mv.point] = {newFaces[best], clampedBarycentric(bestBary)};
       facePoints_[newFaces[best]].push_back(mv.point);
     }
     for (int f : r.faces) std::vector<int>().swap(facePoints_[f]);
@@ -596,6 +592,7 @@ class Simplifier {
   // Largest turn of a feature line or a boundary at a removable vertex, in degrees.
   static constexpr double kMaxTurn = 40.0;
   std::unordered_set<std::uint64_t> features_;
+  std::vector<std::array<int, 2>> inputFeatures_;
   int aliveFaces_ = 0, featureCount_ = 0;
   double maxPower_ = 1.5;             // accepted z^a exponent range [1/x, x]
   double minAngle_ = 10 * kPi / 180;  // smallest angle of a new face, flat domain
@@ -785,10 +782,7 @@ FacesAround facesAround(const Faces& F, Eigen::Index numVertices) {
 }
 
 // A point of the input: triangle and barycentric coordinates (triangle -1: none).
-struct Where {
-  int triangle = -1;
-  std::array<double, 3> bary{};
-};
+using Where = SurfacePoint;
 
 // Step 3 of remesh.h. The orientation a grid triangle should have is the input's
 // where its corners were sampled (area-weighted vertex normals interpolated there),
@@ -797,7 +791,7 @@ struct Where {
 // nearest to their neighbours' centroid, unless that point faces the other way.
 void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
               const std::vector<long long>& line, std::vector<Where>& where,
-              const Progress& progress) {
+              const std::vector<std::array<int, 2>>& inputFeatures, const Progress& progress) {
   const TriangleBvh bvh(input);
   const double diag = boundingBoxDiagonal(input.V);
   const double tinyArea = 1e-14 * diag * diag;
@@ -819,18 +813,6 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       for (int k = 0; k < 3; ++k)
         n += std::max(w.bary[k], 0.0) * vertexNormals.row(input.F(w.triangle, k)).transpose();
     return n;
-  };
-  // Barycentric coordinates of point x (on it) in input triangle t; false if t has
-  // no area.
-  auto barycentricIn = [&](int t, const Vec3& x, std::array<double, 3>& bary) {
-    const Vec3 a = input.V.row(input.F(t, 0)), e1 = input.V.row(input.F(t, 1)) - a.transpose(),
-               e2 = input.V.row(input.F(t, 2)) - a.transpose(), d = x - a;
-    const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), det = d11 * d22 - d12 * d12;
-    if (!(det > 0)) return false;
-    const double u = (d22 * d.dot(e1) - d12 * d.dot(e2)) / det;
-    const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
-    bary = {1 - u - w, u, w};
-    return true;
   };
   auto badCorners = [&](int i, int j, int k, bool& degenerate) {
     const Vec3 a = m.V.row(i), b = m.V.row(j), c = m.V.row(k);
@@ -879,7 +861,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       const ClosestPoint cp = bvh.closestPoint(c / std::max(1, ring.size()));
       if (inputNormal(cp.face).dot(reference(moving[i])) <= 0) continue;  // the far side
       std::array<double, 3> bary;
-      if (!barycentricIn(cp.face, cp.point, bary)) continue;
+      if (!barycentricIn(input, cp.face, cp.point, bary)) continue;
       to[i] = cp.point;
       at[i] = {cp.face, bary};
     }
@@ -961,7 +943,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         const auto bary = barycentric(points[i], fa, fb, fc);
         const bool inside = minOf(bary) >= -1e-12;
         if (!inside && (std::isfinite(best) || minOf(bary) <= closest)) continue;
-        const auto on = clamped(bary);
+        const auto on = clampedBarycentric(bary);
         const Vec3 x = on[0] * a + on[1] * b + on[2] * c;
         if (inside && (x - old).norm() >= best) continue;
         if (inside)
@@ -1288,7 +1270,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
           const ClosestPoint cp = bvh.closestPoint(target);
           if (inputNormal(cp.face).dot(reference(v)) <= 0) continue;  // the far side
           std::array<double, 3> bary;
-          if (barycentricIn(cp.face, cp.point, bary))
+          if (barycentricIn(input, cp.face, cp.point, bary))
             candidates.push_back({cp.point, {cp.face, bary}});
         }
     }
@@ -1338,39 +1320,105 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     left.insert(left.end(), pair.begin(), pair.end());
   std::sort(left.begin(), left.end());
   left.erase(std::unique(left.begin(), left.end()), left.end());
-  constexpr int kMaxRings = 16;
-  for (Eigen::Index f : left) {
-    if (!defective(f)) continue;  // a disk around a neighbour fixed it
-    int center = m.F(f, 0);
-    for (int c = 0; c < 3; ++c)
-      if (m.F(f, c) < numBase) center = m.F(f, c);
-    for (int k = 2; k <= kMaxRings; ++k)
-      if (resampleDisk(center, k)) break;
-  }
-  constexpr int kUntangleRounds = 40;
-  for (int round = 0; round < kUntangleRounds; ++round) {
-    std::vector<Eigen::Index> still;
-    for (Eigen::Index f : left)
-      if (defective(f)) still.push_back(f);
-    left.swap(still);
-    if (left.empty()) break;
-    // The corners of what is left, and their neighbours.
-    std::vector<int> candidates;
-    for (Eigen::Index f : left)
-      for (int k = 0; k < 3; ++k) {
-        candidates.push_back(m.F(f, k));
-        for (int w : rings.ring(m.F(f, k))) candidates.push_back(w);
+  // Last resort for what the repairs leave: the free grid points of each base face
+  // with a defect relax as a whole, each in turn walking along the surface towards
+  // the centroid of its neighbours (Gauss-Seidel on the uniform Laplacian, a discrete
+  // harmonic map of the face's grid onto the surface inside its edges). That undoes
+  // folds of the parameterisation wider than the disks of the second stage, where
+  // the surface bends too much for one tangent plane. Returns the points moved.
+  const Eigen::Index perBase = m.F.rows() / out.base.F.rows();
+  const SurfaceWalker walker(input, inputFeatures);
+  auto relax = [&](const std::vector<char>& relaxFace) {
+    std::vector<int> movers;
+    std::vector<char> seen(m.V.rows(), 0);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+      if (relaxFace[f / perBase])
+        for (int k = 0; k < 3; ++k) {
+          const int v = m.F(f, k);
+          if (free[v] && !seen[v] && where[v].triangle >= 0) seen[v] = 1, movers.push_back(v);
+        }
+    constexpr int kSweeps = 100;  // 50 to 400 gave the same results on the scans
+    for (int sweep = 0; sweep < kSweeps; ++sweep)
+      for (int v : movers) {
+        Vec3 c = Vec3::Zero();
+        const IndexSpan ring = rings.ring(v);
+        for (int w : ring) c += m.V.row(w).transpose();
+        where[v] = walker.walk(where[v], c / ring.size() - m.V.row(v).transpose());
+        m.V.row(v) = walker.position(where[v]).transpose();
       }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    bool moved = false;
-    for (int v : candidates) {
-      // A point on a boundary may, as a last resort, leave it for the inside (the
-      // boundary of the remeshed surface then cuts a notch of the input's rim).
-      const bool loose = v >= numBase && rings.isBoundaryVertex(v);
-      if (free[v] ? placeInKernel(v) : (slide(v) || (loose && placeInKernel(v)))) moved = true;
+    return movers;
+  };
+  auto repair = [&]() {
+    constexpr int kMaxRings = 16;
+    for (Eigen::Index f : left) {
+      if (!defective(f)) continue;  // a disk around a neighbour fixed it
+      int center = m.F(f, 0);
+      for (int c = 0; c < 3; ++c)
+        if (m.F(f, c) < numBase) center = m.F(f, c);
+      for (int k = 2; k <= kMaxRings; ++k)
+        if (resampleDisk(center, k)) break;
     }
-    if (!moved) break;
+    constexpr int kUntangleRounds = 40;
+    for (int round = 0; round < kUntangleRounds; ++round) {
+      std::vector<Eigen::Index> still;
+      for (Eigen::Index f : left)
+        if (defective(f)) still.push_back(f);
+      left.swap(still);
+      if (left.empty()) break;
+      // The corners of what is left, and their neighbours.
+      std::vector<int> candidates;
+      for (Eigen::Index f : left)
+        for (int k = 0; k < 3; ++k) {
+          candidates.push_back(m.F(f, k));
+          for (int w : rings.ring(m.F(f, k))) candidates.push_back(w);
+        }
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      bool moved = false;
+      for (int v : candidates) {
+        // A point on a boundary may, as a last resort, leave it for the inside (the
+        // boundary of the remeshed surface then cuts a notch of the input's rim).
+        const bool loose = v >= numBase && rings.isBoundaryVertex(v);
+        if (free[v] ? placeInKernel(v) : (slide(v) || (loose && placeInKernel(v)))) moved = true;
+      }
+      if (!moved) break;
+    }
+  };
+  repair();
+  // The relaxation and the repairs after it are kept only if fewer defects remain
+  // (on a base that does not cover the input, such as the bunny's ear tip over 150
+  // faces, they make things worse).
+  auto defects = [&]() {
+    long long count = findSelfIntersections(m, 0).count;
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      bool degenerate = false;
+      count += bad(f, degenerate);
+    }
+    return count;
+  };
+  long long before = left.empty() ? 0 : defects();
+  for (int attempt = 0; attempt < 3 && before > 0; ++attempt) {
+    const Points keptV = m.V;
+    const std::vector<Where> keptWhere = where;
+    std::vector<char> relaxFace(out.base.F.rows(), 0);
+    for (Eigen::Index f : left)
+      if (defective(f)) relaxFace[f / perBase] = 1;
+    std::vector<Eigen::Index> again;
+    for (int v : relax(relaxFace))
+      for (int q = facesStart[v]; q < facesStart[v + 1]; ++q) again.push_back(facesAt[q]);
+    std::sort(again.begin(), again.end());
+    again.erase(std::unique(again.begin(), again.end()), again.end());
+    left.clear();
+    for (Eigen::Index f : again)
+      if (defective(f)) left.push_back(f);
+    repair();
+    const long long after = defects();
+    if (after >= before) {
+      m.V = keptV;
+      where = keptWhere;
+      break;
+    }
+    before = after;
   }
   out.flippedTriangles = out.degenerateTriangles = 0;
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -1559,13 +1607,86 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       }
       // In a crack between triangle images: just outside the nearest one, extended in
       // its plane (so neighbouring grid points stay distinct); farther, on its edge.
-      if (minOf(bary) < -0.25) bary = clamped(bary);
+      if (minOf(bary) < -0.25) bary = clampedBarycentric(bary);
     }
     Vec3 p = Vec3::Zero();
     for (int i = 0; i < 3; ++i) p += bary[i] * input.V.row(input.F(t, i)).transpose();
     where.push_back({t, bary});
     return p;
   };
+  // Grid points on a feature or boundary base edge (p, q) follow the input's line
+  // between them: the chain of input feature (or boundary) edges from p to q, whose
+  // inner vertices were all removed onto the base edge. A point at parameter t along
+  // the base edge goes between the chain vertices whose parameters bracket t, so the
+  // line is sampled on the line, in order, consistently with the grid beside it
+  // (locating such points through the charts can land on the far side of a sharp
+  // corner of the line, where a vertex chart's triangles overlap the edge).
+  const Connectivity inputConn(input.F, static_cast<int>(input.V.rows()));
+  std::vector<std::vector<int>> alongFeature(input.V.rows()), alongBoundary(input.V.rows());
+  for (const auto& [a, b] : s.inputFeatures()) {
+    alongFeature[a].push_back(b);
+    alongFeature[b].push_back(a);
+  }
+  for (int e = 0; e < inputConn.numEdges(); ++e)
+    if (inputConn.isBoundaryEdge(e)) {
+      const auto [a, b] = inputConn.edgeVertices(e);
+      alongBoundary[a].push_back(b);
+      alongBoundary[b].push_back(a);
+    }
+  // The input's line under base edge (p, q): its vertices from p to q, each with its
+  // parameter along the edge (0 at p, 1 at q, increasing) as seen from base face f;
+  // none if there is no such chain or its parameters are out of order (the points
+  // are then located like the others).
+  struct Line {
+    std::vector<int> vertices;
+    std::vector<double> t;
+  };
+  auto lineUnder = [&](int f, int p, int q, const std::vector<std::vector<int>>& along) {
+    const int from = inputOf[p], to = inputOf[q];
+    Line path;
+    std::vector<int>& chain = path.vertices;
+    for (int first : along[from]) {
+      chain = {from, first};
+      while (baseOf[chain.back()] < 0 && along[chain.back()].size() == 2 &&
+             chain.size() <= static_cast<std::size_t>(input.V.rows())) {
+        const std::vector<int>& two = along[chain.back()];
+        chain.push_back(two[0] == chain[chain.size() - 2] ? two[1] : two[0]);
+      }
+      if (chain.back() == to) break;
+      chain.clear();
+    }
+    if (chain.empty()) return path;
+    int ip = 0, iq = 0;
+    while (out.base.F(f, ip) != p) ++ip;
+    while (out.base.F(f, iq) != q) ++iq;
+    path.t.push_back(0);
+    for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
+      std::array<double, 3> b;
+      if (!expressIn(params[chain[i]], f, b) || !(b[ip] + b[iq] > 0) ||
+          !(b[iq] / (b[ip] + b[iq]) > path.t.back()))
+        return Line();
+      path.t.push_back(b[iq] / (b[ip] + b[iq]));
+    }
+    if (!(path.t.back() < 1)) return Line();
+    path.t.push_back(1);
+    return path;
+  };
+  // The point at parameter `at` along a path, on the input edge whose ends bracket it.
+  auto sampleLine = [&](const Line& path, double at) {
+    std::size_t i = 0;
+    while (i + 2 < path.vertices.size() && path.t[i + 1] < at) ++i;
+    const double u = std::clamp((at - path.t[i]) / (path.t[i + 1] - path.t[i]), 0.0, 1.0);
+    const int a = path.vertices[i], b = path.vertices[i + 1];
+    const int tri = inputConn.edgeHalfedge(inputConn.findEdge(a, b)) / 3;
+    Where w{tri, {0, 0, 0}};
+    for (int k = 0; k < 3; ++k) {
+      if (input.F(tri, k) == a) w.bary[k] = 1 - u;
+      if (input.F(tri, k) == b) w.bary[k] = u;
+    }
+    where.push_back(w);
+    return Vec3((1 - u) * input.V.row(a).transpose() + u * input.V.row(b).transpose());
+  };
+  std::unordered_map<long long, Line> lines;  // by base edge p * nbv + q, p < q
   for (int f = 0; f < nb; ++f) {
     if (progress && f % 16 == 0) progress("resample", double(f) / nb);
     const int a = out.base.F(f, 0), b = out.base.F(f, 1), c = out.base.F(f, 2);
@@ -1595,12 +1716,22 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
           const std::uint64_t key = (static_cast<std::uint64_t>(p) * nbv + q) * (N + 1) + step;
           auto [it, fresh] = edgePoint.emplace(key, static_cast<int>(positions.size()));
           if (fresh) {
-            positions.push_back(sample(f, bary));
             // Free to move in the clean-up unless the edge is a feature or a boundary.
+            const long long edge = static_cast<long long>(p) * nbv + q;
+            const bool feature = s.featureEdge(inputOf[p], inputOf[q]),
+                       boundary = charts.boundaryEdge(p, q);
+            const Line* under = nullptr;
+            if (feature || boundary) {
+              auto [known, first] = lines.try_emplace(edge);
+              if (first)
+                known->second = lineUnder(f, p, q, boundary ? alongBoundary : alongFeature);
+              if (!known->second.vertices.empty()) under = &known->second;
+            }
+            positions.push_back(under ? sampleLine(*under, double(step) / N) : sample(f, bary));
             inside.resize(positions.size(), 0);
-            inside.back() = !s.featureEdge(inputOf[p], inputOf[q]) && !charts.boundaryEdge(p, q);
+            inside.back() = !feature && !boundary;
             line.resize(positions.size(), -1);
-            line.back() = static_cast<long long>(p) * nbv + q;
+            line.back() = edge;
           }
           slot = it->second;
         } else {
@@ -1624,7 +1755,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
   inside.resize(positions.size(), 0);
   line.resize(positions.size(), -1);
-  untangle(out, input, inside, line, where, progress);
+  untangle(out, input, inside, line, where, s.inputFeatures(), progress);
   out.selfIntersections = findSelfIntersections(out.mesh, 0).count;
   return out;
 }

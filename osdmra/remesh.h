@@ -22,6 +22,9 @@
 //    base face when their corners all lie in it, else in the chart of the base edge
 //    they straddle (its two faces unfolded, isometric to both face charts, so there
 //    is no crack along base edges), else in the chart of a base vertex they surround.
+//    Grid points on feature and boundary base edges are sampled along the input's
+//    line itself (the chain of input feature or boundary edges the base edge stands
+//    for), at their parameter along the edge.
 // 3. Clean-up. Where the parameterisation folds (composed flattenings bend a large
 //    input triangle; a base vertex's neighbours end up on one side of it), output
 //    triangles come out flipped (facing against the input's normals where their
@@ -31,9 +34,11 @@
 //    plane (Tutte's embedding, lifted back onto the input); then points go one at a
 //    time to where the worst of their triangles is best (Freitag and Plassmann's
 //    untangling, on the surface), points on feature lines and boundaries sliding
-//    along them. The last two keep a move only if it makes nothing worse nearby. remesh() reports what
-//    remains (none on the scans of docs/REMESH.md at the defaults; some at other
-//    sizes, listed there).
+//    along them. The last two keep a move only if it makes nothing worse nearby. As a
+//    last resort, base faces still defective relax as a whole (each free point walks
+//    along the surface towards its neighbours' centroid) and the repairs run again,
+//    kept if fewer defects remain. remesh() reports what remains (none on the scans
+//    of docs/REMESH.md at the defaults, nor at most other sizes; listed there).
 //
 // The output has subdivision connectivity in its own vertex and face order: the
 // rest of osdmra recovers its structure (recovery.h).
