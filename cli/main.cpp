@@ -71,7 +71,10 @@ commands:
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
                                on the input; reports the distance to the input and
-                               any flipped, zero-area or crossing triangles left
+                               any flipped, zero-area or crossing triangles left,
+                               with a warning on stderr (and in the JSON) if any
+                               are, or if the result is over 1% of the diagonal
+                               from the input somewhere
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]
@@ -262,6 +265,29 @@ RemeshOptions remeshOptions(const Args& args) {
   return o;
 }
 
+// What a user should know about a remeshing before relying on it: defects the
+// clean-up left, and a result far from the input somewhere (docs/REMESH.md).
+constexpr double kFarRemesh = 0.01;  // of the bounding-box diagonal
+std::vector<std::string> remeshWarnings(const Remeshed& r) {
+  std::vector<std::string> out;
+  const Remeshing& x = r.result;
+  if (x.flippedTriangles + x.degenerateTriangles > 0 || x.selfIntersections > 0)
+    out.push_back(std::to_string(x.flippedTriangles) + " flipped, " +
+                  std::to_string(x.degenerateTriangles) + " zero-area triangles and " +
+                  std::to_string(x.selfIntersections) +
+                  " crossing pairs are left; another --base-faces or --levels may avoid them");
+  if (r.distance.hausdorffRelative > kFarRemesh) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "the remeshed surface is %.2f%% of the bounding-box diagonal from the input "
+                  "at its farthest (over %.0f%%): raise --levels for finer sampling, or "
+                  "--base-faces if thin or protruding parts of the input are missed",
+                  100 * r.distance.hausdorffRelative, 100 * kFarRemesh);
+    out.push_back(buf);
+  }
+  return out;
+}
+
 Remeshed remeshFile(const std::string& in, const Args& args, const Common& opt) {
   Remeshed r;
   TriMesh mesh = readMesh(in);
@@ -278,10 +304,14 @@ Remeshed remeshFile(const std::string& in, const Args& args, const Common& opt) 
   r.seconds = seconds(t0);
   r.distance = surfaceDistance(r.result.mesh, mesh, distanceOptions(args));
   r.used = true;
+  for (const std::string& w : remeshWarnings(r))
+    std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), w.c_str());
   return r;
 }
 
 Json remeshJson(const Remeshed& r) {
+  Json warnings = Json::array();
+  for (const std::string& w : remeshWarnings(r)) warnings.push(w);
   return Json::object()
       .add("input_vertices", r.inputVertices)
       .add("input_faces", r.inputFaces)
@@ -296,7 +326,8 @@ Json remeshJson(const Remeshed& r) {
       .add("self_intersections", r.result.selfIntersections)
       .add("rms_relative", r.distance.rmsRelative)
       .add("hausdorff_relative", r.distance.hausdorffRelative)
-      .add("seconds", r.seconds);
+      .add("seconds", r.seconds)
+      .add("warnings", warnings);
 }
 
 void printRemesh(const std::string& in, const Remeshed& r) {

@@ -258,12 +258,25 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   // An unreferenced vertex is dropped, not refused.
   { std::ofstream(path("t3.obj"), std::ios::app) << "v 9 9 9\n"; }
   const Result r =
-      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 2 --json -o " + path("r.ply"));
+      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 3 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* key : {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
-                          "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
-                          "\"degenerate_triangles\": 0", "\"self_intersections\": 0"})
+  for (const char* key :
+       {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
+        "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
+        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  // A base far too coarse, split once: the result is far from the input somewhere,
+  // and the user is told (stderr and JSON) but still gets it.
+  const Result coarse =
+      run("remesh " + path("t3.obj") + " --base-faces 4 --levels 1 --json -o " + path("c.obj"));
+  ASSERT_EQ(coarse.status, 0) << coarse.err;
+  EXPECT_NE(coarse.err.find("warning: " + path("t3.obj") + ": the remeshed surface is"),
+            std::string::npos)
+      << coarse.err;
+  EXPECT_NE(coarse.out.find("\"warnings\": [\"the remeshed surface is"), std::string::npos)
+      << coarse.out;
+  EXPECT_TRUE(fs::exists(path("c.obj")));
   const TriMesh m = readValidMesh(path("r.ply"));
   EXPECT_EQ(m.F.rows() % 16, 0);
   // lod through --remesh reports the remeshing apart.
