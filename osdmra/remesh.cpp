@@ -244,7 +244,7 @@ class Simplifier {
   }
 
   int featureCount() const { return featureCount_; }
-  /// The input's feature edges (as found before simplification), by edgeKey.
+  /// The input's feature edges (as found before simplification), as vertex pairs.
   const std::vector<std::array<int, 2>>& inputFeatures() const { return inputFeatures_; }
   /// Whether the edge between input vertices a and b is a feature (now).
   bool featureEdge(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
