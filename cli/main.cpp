@@ -73,8 +73,9 @@ commands:
                                on the input; reports the distance to the input and
                                any flipped, zero-area or crossing triangles left,
                                with a warning on stderr (and in the JSON) if any
-                               are, or if the result is over 1% of the diagonal
-                               from the input somewhere
+                               are, if the result is over 1% of the diagonal from
+                               the input somewhere, or if the base has more faces
+                               than asked (it keeps tips of protrusions)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]
@@ -250,6 +251,7 @@ DistanceOptions distanceOptions(const Args& args) {
 // truncation error, which is measured against the remeshed surface.
 struct Remeshed {
   bool used = false;
+  int requestedBaseFaces = 0;
   int droppedVertices = 0;
   int inputVertices = 0, inputFaces = 0;
   Remeshing result;
@@ -276,6 +278,12 @@ std::vector<std::string> remeshWarnings(const Remeshed& r) {
                   std::to_string(x.degenerateTriangles) + " zero-area triangles and " +
                   std::to_string(x.selfIntersections) +
                   " crossing pairs are left; another --base-faces or --levels may avoid them");
+  const int baseFaces = static_cast<int>(x.base.F.rows());
+  if (baseFaces > r.requestedBaseFaces)
+    out.push_back("the base has " + std::to_string(baseFaces) + " faces, more than the " +
+                  std::to_string(r.requestedBaseFaces) +
+                  " asked for: no other vertex could go without changing the topology or "
+                  "flattening the tip of a protrusion");
   if (r.distance.hausdorffRelative > kFarRemesh) {
     char buf[320];
     std::snprintf(buf, sizeof buf,
@@ -297,7 +305,9 @@ Remeshed remeshFile(const std::string& in, const Args& args, const Common& opt) 
   r.inputFaces = static_cast<int>(mesh.F.rows());
   const auto t0 = Clock::now();
   try {
-    r.result = remesh(mesh, remeshOptions(args), opt.progress);
+    const RemeshOptions options = remeshOptions(args);
+    r.requestedBaseFaces = options.baseFaces;
+    r.result = remesh(mesh, options, opt.progress);
   } catch (const Error& e) {
     throw Error(in + ": " + e.what());
   }

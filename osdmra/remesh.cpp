@@ -319,10 +319,10 @@ class Simplifier {
       }
       if (progress) progress("simplify", double(start - aliveFaces_) / std::max(1, start - target));
       if (removedNow == 0) {
-        if (maxPower_ > 1e6) break;
-        // Nothing flat enough is left: accept more distortion.
-        maxPower_ = maxPower_ < 4 ? maxPower_ * 1.25 : 1e9;
-        minAngle_ = maxPower_ > 1e6 ? 0 : minAngle_ * 0.5;
+        if (maxPower_ >= kMaxPower) break;
+        // Nothing flat enough is left: accept more distortion, once.
+        maxPower_ = kMaxPower;
+        minAngle_ *= 0.5;
       }
     }
     if (progress) progress("simplify", 1.0);
@@ -594,7 +594,14 @@ class Simplifier {
   std::unordered_set<std::uint64_t> features_;
   std::vector<std::array<int, 2>> inputFeatures_;
   int aliveFaces_ = 0, featureCount_ = 0;
-  double maxPower_ = 1.5;             // accepted z^a exponent range [1/x, x]
+  // Accepted z^a exponent range [1/x, x]: 1.5 while other vertices can go, then at
+  // most kMaxPower. A one-ring whose angles sum to less than 2 pi / kMaxPower (192
+  // degrees) is the tip of a protrusion (an ear, a horn): removing it folds the whole
+  // protrusion into the faces around, where the grid samples past it (the bunny over
+  // 150 base faces lost its ears to that: Hausdorff 4% of the diagonal; 22% over 100).
+  // The simplification stops there rather than go below such a base.
+  static constexpr double kMaxPower = 1.875;
+  double maxPower_ = 1.5;
   double minAngle_ = 10 * kPi / 180;  // smallest angle of a new face, flat domain
 };
 

@@ -53,7 +53,9 @@ namespace osdmra {
 
 struct RemeshOptions {
   /// Target number of base faces: simplification stops at or just below it, or
-  /// earlier when no vertex can be removed without changing the topology.
+  /// earlier when no vertex can be removed without changing the topology or
+  /// flattening the tip of a protrusion (a one-ring whose angles sum to under 192
+  /// degrees, such as the bunny's ear tips below about 180 faces).
   int baseFaces = 300;
   /// Rounds of 1-to-4 splitting of the base mesh.
   int levels = 5;

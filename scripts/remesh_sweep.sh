@@ -10,8 +10,8 @@ build=${1:-build}
 scans=${SCANS:-../shared/data/scans}
 out=$(mktemp /tmp/osdmra-sweep-XXXXXX.obj)
 trap 'rm -f "$out"' EXIT
-echo "| mesh | base faces | levels | flipped | zero-area | crossing pairs | RMS | Hausdorff | time (s) |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+echo "| mesh | base faces asked | base faces | levels | flipped | zero-area | crossing pairs | RMS | Hausdorff | time (s) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for name in stanford-bunny spot rocker-arm fandisk; do
   for n in 150 300 600; do
     for J in 4 5; do
@@ -19,7 +19,7 @@ for name in stanford-bunny spot rocker-arm fandisk; do
         python3 -c "
 import json, sys
 j = json.load(sys.stdin)
-print(f\"| $name | {j['base_faces']} | $J | {j['flipped_triangles']} | {j['degenerate_triangles']} | \"
+print(f\"| $name | $n | {j['base_faces']} | $J | {j['flipped_triangles']} | {j['degenerate_triangles']} | \"
       f\"{j['self_intersections']} | {100*j['rms_relative']:.4f}% | {100*j['hausdorff_relative']:.3f}% | \"
       f\"{j['seconds']:.2f} |\")"
     done

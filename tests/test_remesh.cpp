@@ -163,6 +163,31 @@ TEST(Remesh, FoldedInputComesOutClean) {
   EXPECT_EQ(topology(r.mesh).euler, 2);
 }
 
+TEST(Remesh, KeepsTheTipOfAProtrusion) {
+  // A sphere with a horn: one vertex pulled out to three times the radius, its
+  // one-ring a sharp cone. Asked for a base far coarser than the sphere needs, the
+  // simplification keeps the horn's tip rather than fold the horn into the faces
+  // around it (where the grid would sample past it), and says so by stopping above
+  // the requested size; the remeshed surface keeps the horn.
+  TriMesh input = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  const Eigen::RowVector3d tip = 3 * input.V.row(0) / input.V.row(0).norm();
+  input.V.row(0) = tip;
+  RemeshOptions o;
+  o.baseFaces = 8;
+  o.levels = 3;
+  const Remeshing r = remesh(input, o);
+  EXPECT_GT(r.base.F.rows(), 8);
+  bool kept = false;
+  for (Eigen::Index v = 0; v < r.base.V.rows(); ++v) kept = kept || r.base.V.row(v) == tip;
+  EXPECT_TRUE(kept);
+  DistanceOptions d;
+  d.samples = 20000;
+  const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
+  EXPECT_LT(dist.hausdorffRelative, 0.02) << dist.hausdorffRelative;
+  EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
+  EXPECT_EQ(r.selfIntersections, 0);
+}
+
 TEST(Remesh, RejectsBadOptions) {
   const TriMesh ico = shapes::icosahedron();
   RemeshOptions o;
