@@ -1393,23 +1393,35 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   };
   repair();
   // The relaxation and the repairs after it are kept only if fewer defects remain
-  // (on a base that does not cover the input, such as the bunny's ear tip over 150
-  // faces, they make things worse).
+  // (where the base is far from the input's shape they can make things worse).
+  // What is left over the whole surface: the bad faces and the faces of crossing
+  // pairs, near each other or not (a sheet through another part of the surface is
+  // not a defect that the repairs' local tests see); their number, and the count of
+  // crossing pairs reported.
+  std::vector<Eigen::Index> flagged;
   auto defects = [&]() {
-    long long count = findSelfIntersections(m, 0).count;
+    const SelfIntersections everywhere = findSelfIntersections(m, std::numeric_limits<int>::max());
+    out.selfIntersections = everywhere.count;
+    flagged.clear();
+    for (const auto& pair : everywhere.pairs)
+      flagged.insert(flagged.end(), pair.begin(), pair.end());
+    long long count = everywhere.count;
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       bool degenerate = false;
-      count += bad(f, degenerate);
+      if (bad(f, degenerate)) {
+        flagged.push_back(f);
+        ++count;
+      }
     }
     return count;
   };
-  long long before = left.empty() ? 0 : defects();
+  long long before = defects();
   for (int attempt = 0; attempt < 3 && before > 0; ++attempt) {
     const Points keptV = m.V;
     const std::vector<Where> keptWhere = where;
+    const long long keptCrossings = out.selfIntersections;
     std::vector<char> relaxFace(out.base.F.rows(), 0);
-    for (Eigen::Index f : left)
-      if (defective(f)) relaxFace[f / perBase] = 1;
+    for (Eigen::Index f : flagged) relaxFace[f / perBase] = 1;
     std::vector<Eigen::Index> again;
     for (int v : relax(relaxFace))
       for (int q = facesStart[v]; q < facesStart[v + 1]; ++q) again.push_back(facesAt[q]);
@@ -1423,6 +1435,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     if (after >= before) {
       m.V = keptV;
       where = keptWhere;
+      out.selfIntersections = keptCrossings;
       break;
     }
     before = after;
@@ -1763,7 +1776,6 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   inside.resize(positions.size(), 0);
   line.resize(positions.size(), -1);
   untangle(out, input, inside, line, where, s.inputFeatures(), progress);
-  out.selfIntersections = findSelfIntersections(out.mesh, 0).count;
   return out;
 }
 
