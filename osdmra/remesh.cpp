@@ -98,6 +98,21 @@ std::vector<std::array<int, 3>> earClip(const std::vector<Vec2>& p) {
   return out;
 }
 
+// The vertices of a line (`along[v]`: v's neighbours on it) from `from` through
+// `next`, on through vertices with exactly two neighbours, up to one that `stops`, has
+// another number of neighbours, or is `from` again (a closed loop). It cannot run in
+// circles: a loop of two-neighbour vertices has no way in but from one of them.
+template <class Stops>
+std::vector<int> followLine(const std::vector<std::vector<int>>& along, int from, int next,
+                            const Stops& stops) {
+  std::vector<int> chain{from, next};
+  while (chain.back() != from && along[chain.back()].size() == 2 && !stops(chain.back())) {
+    const std::vector<int>& two = along[chain.back()];
+    chain.push_back(two[0] == chain[chain.size() - 2] ? two[1] : two[0]);
+  }
+  return chain;
+}
+
 struct Param {
   int face = -1;
   std::array<double, 3> bary{};  // over the face's corners, in its order
@@ -218,24 +233,16 @@ class Simplifier {
       adj[b].push_back(a);
     }
     std::unordered_set<std::uint64_t> seen, keep;
-    auto walk = [&](int from, int next) {  // the chain from node `from` through `next`
-      std::vector<std::uint64_t> chain{edgeKey(from, next)};
-      int prev = from, at = next;
-      while (adj[at].size() == 2 && at != from) {
-        const int nxt = adj[at][0] == prev ? adj[at][1] : adj[at][0];
-        chain.push_back(edgeKey(at, nxt));
-        prev = at;
-        at = nxt;
-      }
-      return chain;
-    };
     for (int v = 0; v < n; ++v) {
       if (adj[v].empty() || adj[v].size() == 2) continue;  // chains start at their ends
       for (int w : adj[v]) {
         if (seen.count(edgeKey(v, w))) continue;
-        const std::vector<std::uint64_t> chain = walk(v, w);
-        for (std::uint64_t k : chain) seen.insert(k);
-        if (static_cast<int>(chain.size()) >= kMinChain) keep.insert(chain.begin(), chain.end());
+        const std::vector<int> chain = followLine(adj, v, w, [](int) { return false; });
+        const bool kept = static_cast<int>(chain.size()) - 1 >= kMinChain;
+        for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+          seen.insert(edgeKey(chain[i], chain[i + 1]));
+          if (kept) keep.insert(edgeKey(chain[i], chain[i + 1]));
+        }
       }
     }
     for (std::uint64_t k : features_)  // closed loops: every vertex has two
@@ -798,7 +805,7 @@ using Where = SurfacePoint;
 // nearest to their neighbours' centroid, unless that point faces the other way.
 void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
               const std::vector<long long>& line, std::vector<Where>& where,
-              const std::vector<std::array<int, 2>>& inputFeatures, const Progress& progress) {
+              const SurfaceWalker& walker, const Progress& progress) {
   const TriangleBvh bvh(input);
   const double diag = boundingBoxDiagonal(input.V);
   const double tinyArea = 1e-14 * diag * diag;
@@ -1334,7 +1341,6 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   // folds of the parameterisation wider than the disks of the second stage, where
   // the surface bends too much for one tangent plane. Returns the points moved.
   const Eigen::Index perBase = m.F.rows() / out.base.F.rows();
-  const SurfaceWalker walker(input, inputFeatures);
   auto relax = [&](const std::vector<char>& relaxFace) {
     std::vector<int> movers;
     std::vector<char> seen(m.V.rows(), 0);
@@ -1641,7 +1647,9 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // line is sampled on the line, in order, consistently with the grid beside it
   // (locating such points through the charts can land on the far side of a sharp
   // corner of the line, where a vertex chart's triangles overlap the edge).
-  const Connectivity inputConn(input.F, static_cast<int>(input.V.rows()));
+  // Walks on the input (the clean-up's last stage) do not cross its feature lines.
+  const SurfaceWalker walker(input, s.inputFeatures());
+  const Connectivity& inputConn = walker.connectivity();
   std::vector<std::vector<int>> alongFeature(input.V.rows()), alongBoundary(input.V.rows());
   for (const auto& [a, b] : s.inputFeatures()) {
     alongFeature[a].push_back(b);
@@ -1666,12 +1674,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     Line path;
     std::vector<int>& chain = path.vertices;
     for (int first : along[from]) {
-      chain = {from, first};
-      while (baseOf[chain.back()] < 0 && along[chain.back()].size() == 2 &&
-             chain.size() <= static_cast<std::size_t>(input.V.rows())) {
-        const std::vector<int>& two = along[chain.back()];
-        chain.push_back(two[0] == chain[chain.size() - 2] ? two[1] : two[0]);
-      }
+      chain = followLine(along, from, first, [&](int v) { return baseOf[v] >= 0; });
       if (chain.back() == to) break;
       chain.clear();
     }
@@ -1775,7 +1778,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     for (int k = 0; k < 3; ++k) out.mesh.F(f, k) = faces[f][k];
   inside.resize(positions.size(), 0);
   line.resize(positions.size(), -1);
-  untangle(out, input, inside, line, where, s.inputFeatures(), progress);
+  untangle(out, input, inside, line, where, walker, progress);
   return out;
 }
 

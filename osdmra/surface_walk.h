@@ -45,6 +45,8 @@ class SurfaceWalker {
   SurfacePoint walk(SurfacePoint from, Eigen::Vector3d d) const;
   /// The position of a point.
   Eigen::Vector3d position(const SurfacePoint& p) const;
+  /// The mesh's connectivity, built for the walks (for callers that need it too).
+  const Connectivity& connectivity() const { return conn_; }
 
   static constexpr int kMaxSteps = 256;
 
