@@ -1398,8 +1398,9 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     }
   };
   repair();
-  // The relaxation and the repairs after it are kept only if fewer defects remain
-  // (where the base is far from the input's shape they can make things worse).
+  // The relaxation and the repairs after it are kept only if fewer defects remain and
+  // the relaxed faces come no farther from the input (where the base is far from the
+  // input's shape they can make things worse).
   // What is left over the whole surface: the bad faces and the faces of crossing
   // pairs, near each other or not (a sheet through another part of the surface is
   // not a defect that the repairs' local tests see); their number, and the count of
@@ -1421,6 +1422,19 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     }
     return count;
   };
+  // How far the relaxed faces stray from the input: the largest distance of one of
+  // their centroids to it. An attempt may not increase it (the bunny asked for 150
+  // faces at J = 5: a relaxation that left 808 defects instead of 4,348 took a sliver
+  // face off the surface, Hausdorff 3.2% -> 10.7%, RMS 0.07% -> 0.67%).
+  auto farthest = [&](const std::vector<char>& relaxFace) {
+    double d = 0;
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+      if (relaxFace[f / perBase]) {
+        const Vec3 c = (m.V.row(m.F(f, 0)) + m.V.row(m.F(f, 1)) + m.V.row(m.F(f, 2))).transpose();
+        d = std::max(d, bvh.closestPoint(c / 3).distance);
+      }
+    return d;
+  };
   long long before = defects();
   for (int attempt = 0; attempt < 3 && before > 0; ++attempt) {
     const Points keptV = m.V;
@@ -1428,6 +1442,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
     const long long keptCrossings = out.selfIntersections;
     std::vector<char> relaxFace(out.base.F.rows(), 0);
     for (Eigen::Index f : flagged) relaxFace[f / perBase] = 1;
+    const double farBefore = farthest(relaxFace);
     std::vector<Eigen::Index> again;
     for (int v : relax(relaxFace))
       for (int q = facesStart[v]; q < facesStart[v + 1]; ++q) again.push_back(facesAt[q]);
@@ -1438,7 +1453,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       if (defective(f)) left.push_back(f);
     repair();
     const long long after = defects();
-    if (after >= before) {
+    if (after >= before || farthest(relaxFace) > farBefore) {
       m.V = keptV;
       where = keptWhere;
       out.selfIntersections = keptCrossings;

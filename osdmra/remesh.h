@@ -37,8 +37,9 @@
 //    along them. The last two keep a move only if it makes nothing worse nearby. As a
 //    last resort, base faces still defective relax as a whole (each free point walks
 //    along the surface towards its neighbours' centroid) and the repairs run again,
-//    kept if fewer defects remain. remesh() reports what remains (none on the scans
-//    of docs/REMESH.md at the defaults, nor at most other sizes; listed there).
+//    kept if fewer defects remain and the relaxed faces come no farther from the
+//    input. remesh() reports what remains (none on the scans of docs/REMESH.md at
+//    the defaults, nor at most other sizes; listed there).
 //
 // The output has subdivision connectivity in its own vertex and face order: the
 // rest of osdmra recovers its structure (recovery.h).
