@@ -113,6 +113,22 @@ std::vector<int> followLine(const std::vector<std::vector<int>>& along, int from
   return chain;
 }
 
+// Face f's normal scaled by twice its area (the cross product of two edges).
+Vec3 faceNormal(const TriMesh& m, Eigen::Index f) {
+  const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+  return (b - a).cross(c - a);
+}
+
+// Area-weighted vertex normals, unnormalised: the sum of faceNormal() around each.
+Points areaWeightedVertexNormals(const TriMesh& m) {
+  Points normals = Points::Zero(m.V.rows(), 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Vec3 n = faceNormal(m, f);
+    for (int k = 0; k < 3; ++k) normals.row(m.F(f, k)) += n.transpose();
+  }
+  return normals;
+}
+
 struct Param {
   int face = -1;
   std::array<double, 3> bary{};  // over the face's corners, in its order
@@ -134,13 +150,9 @@ class Simplifier {
     // sharpest creases and their corners like the sharpest points of the surface;
     // they are noise: no feature, and removed first at any distortion (else a fold
     // survives as a base face, and every grid triangle in it comes out flipped).
-    Points vertexNormals = Points::Zero(n, 3);
+    const Points vertexNormals = areaWeightedVertexNormals(m);
     std::vector<Vec3> faceNormals(m.F.rows());
-    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-      const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), cc = m.V.row(m.F(f, 2));
-      faceNormals[f] = (b - a).cross(cc - a);
-      for (int k = 0; k < 3; ++k) vertexNormals.row(m.F(f, k)) += faceNormals[f].transpose();
-    }
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) faceNormals[f] = faceNormal(m, f);
     fold_.assign(n, 0);
     std::vector<char> foldFace(m.F.rows(), 0);
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -811,15 +823,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   const double tinyArea = 1e-14 * diag * diag;
   TriMesh& m = out.mesh;
   const VertexRings rings(m.F, static_cast<int>(m.V.rows()));
-  auto inputNormal = [&](int t) {
-    const Vec3 a = input.V.row(input.F(t, 0)), b = input.V.row(input.F(t, 1)),
-               c = input.V.row(input.F(t, 2));
-    return Vec3((b - a).cross(c - a));
-  };
-  Points vertexNormals = Points::Zero(input.V.rows(), 3);
-  for (Eigen::Index t = 0; t < input.F.rows(); ++t)
-    for (int k = 0; k < 3; ++k)
-      vertexNormals.row(input.F(t, k)) += inputNormal(static_cast<int>(t)).transpose();
+  const Points vertexNormals = areaWeightedVertexNormals(input);
   auto reference = [&](int v) {
     const Where& w = where[v];
     Vec3 n = Vec3::Zero();
@@ -873,7 +877,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
       const IndexSpan ring = rings.ring(moving[i]);
       for (int w : ring) c += m.V.row(w).transpose();
       const ClosestPoint cp = bvh.closestPoint(c / std::max(1, ring.size()));
-      if (inputNormal(cp.face).dot(reference(moving[i])) <= 0) continue;  // the far side
+      if (faceNormal(input, cp.face).dot(reference(moving[i])) <= 0) continue;  // the far side
       std::array<double, 3> bary;
       if (!barycentricIn(input, cp.face, cp.point, bary)) continue;
       to[i] = cp.point;
@@ -1282,7 +1286,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
         for (double step : {0.1, 0.2, 0.3, 0.4}) {
           const Vec3 target = (1 - step) * from + step * m.V.row(end).transpose();
           const ClosestPoint cp = bvh.closestPoint(target);
-          if (inputNormal(cp.face).dot(reference(v)) <= 0) continue;  // the far side
+          if (faceNormal(input, cp.face).dot(reference(v)) <= 0) continue;  // the far side
           std::array<double, 3> bary;
           if (barycentricIn(input, cp.face, cp.point, bary))
             candidates.push_back({cp.point, {cp.face, bary}});
