@@ -17,13 +17,13 @@
 #include <memory>
 #include <random>
 
-#include "osdmra/approximation.h"
-#include "osdmra/bundled_data.h"
-#include "osdmra/distance.h"
-#include "osdmra/io.h"
-#include "osdmra/recovery.h"
-#include "osdmra/remesh.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mra/approximation.h"
+#include "osdmra/base/bundled_data.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/subdivision/recovery.h"
+#include "osdmra/remesh/remesh.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

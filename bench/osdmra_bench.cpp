@@ -38,9 +38,9 @@
 #include <utility>
 #include <vector>
 
-#include "osdmra/filter_bank.h"
-#include "osdmra/hierarchy.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/subdivision/hierarchy.h"
+#include "osdmra/subdivision/shapes.h"
 
 namespace {
 

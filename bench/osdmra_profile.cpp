@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
-#include "osdmra/error.h"
-#include "osdmra/filter_bank.h"
-#include "osdmra/shapes.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/subdivision/shapes.h"
 
 namespace {
 

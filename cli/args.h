@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "osdmra/error.h"
+#include "osdmra/base/error.h"
 
 namespace osdmra::cli {
 

@@ -2,8 +2,8 @@
 // monotone in epsilon, within budget, vertices on the truncated surface.
 #include <gtest/gtest.h>
 
-#include "osdmra/approximation.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mra/approximation.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "osdmra/io.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/subdivision/shapes.h"
 
 namespace fs = std::filesystem;
 using namespace osdmra;

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "osdmra/connectivity.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mesh/connectivity.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "osdmra/distance.h"
-#include "osdmra/error.h"
-#include "osdmra/mesh.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/mesh.h"
 
 using namespace osdmra;
 using Vec3 = Eigen::Vector3d;

@@ -3,10 +3,10 @@
 
 #include <cmath>
 
-#include "osdmra/error.h"
-#include "osdmra/filter_bank.h"
-#include "osdmra/gram.h"
-#include "osdmra/shapes.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/mra/gram.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

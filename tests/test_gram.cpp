@@ -4,8 +4,8 @@
 #include <Eigen/SparseCholesky>
 #include <cmath>
 
-#include "osdmra/gram.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mra/gram.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

@@ -2,8 +2,8 @@
 
 #include <set>
 
-#include "osdmra/hierarchy.h"
-#include "osdmra/mesh.h"
+#include "osdmra/subdivision/hierarchy.h"
+#include "osdmra/mesh/mesh.h"
 using namespace osdmra;
 TEST(Hierarchy, OctahedronCounts) {
   Faces F(8, 3);
@@ -14,7 +14,7 @@ TEST(Hierarchy, OctahedronCounts) {
   for (int r = 0; r < P.rows(); ++r) EXPECT_NEAR(P.row(r).sum(), 1.0, 1e-15);
 }
 
-#include "osdmra/shapes.h"
+#include "osdmra/subdivision/shapes.h"
 
 // The test shapes have the topology their names promise.
 TEST(Shapes, TopologyAsAdvertised) {

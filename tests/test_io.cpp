@@ -17,9 +17,9 @@
 #include <string_view>
 #include <vector>
 
-#include "osdmra/error.h"
-#include "osdmra/io.h"
-#include "osdmra/mesh.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/mesh/mesh.h"
 
 using namespace osdmra;
 namespace fs = std::filesystem;

@@ -21,12 +21,12 @@
 #include <unordered_set>
 #include <vector>
 
-#include "osdmra/connectivity.h"
-#include "osdmra/error.h"
-#include "osdmra/filter_bank.h"
-#include "osdmra/lod.h"
-#include "osdmra/shapes.h"
-#include "osdmra/truncation.h"
+#include "osdmra/mesh/connectivity.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/mra/lod.h"
+#include "osdmra/subdivision/shapes.h"
+#include "osdmra/mra/truncation.h"
 
 using namespace osdmra;
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
-#include "osdmra/error.h"
-#include "osdmra/mesh.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/mesh.h"
 
 using namespace osdmra;
 

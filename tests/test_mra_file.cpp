@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "osdmra/error.h"
-#include "osdmra/hierarchy.h"
-#include "osdmra/mra_file.h"
+#include "osdmra/base/error.h"
+#include "osdmra/subdivision/hierarchy.h"
+#include "osdmra/mra/mra_file.h"
 
 using namespace osdmra;
 namespace fs = std::filesystem;

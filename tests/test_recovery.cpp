@@ -6,10 +6,10 @@
 #include <map>
 #include <random>
 
-#include "osdmra/connectivity.h"
-#include "osdmra/filter_bank.h"
-#include "osdmra/recovery.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mesh/connectivity.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/subdivision/recovery.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

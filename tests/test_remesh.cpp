@@ -7,13 +7,13 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "osdmra/connectivity.h"
-#include "osdmra/distance.h"
-#include "osdmra/error.h"
-#include "osdmra/recovery.h"
-#include "osdmra/remesh.h"
-#include "osdmra/self_intersection.h"
-#include "osdmra/shapes.h"
+#include "osdmra/mesh/connectivity.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/base/error.h"
+#include "osdmra/subdivision/recovery.h"
+#include "osdmra/remesh/remesh.h"
+#include "osdmra/geometry/self_intersection.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

@@ -7,10 +7,10 @@
 #include <random>
 #include <vector>
 
-#include "osdmra/distance.h"
-#include "osdmra/error.h"
-#include "osdmra/self_intersection.h"
-#include "osdmra/shapes.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/base/error.h"
+#include "osdmra/geometry/self_intersection.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

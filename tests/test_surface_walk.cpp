@@ -5,8 +5,8 @@
 
 #include <Eigen/Geometry>
 
-#include "osdmra/shapes.h"
-#include "osdmra/surface_walk.h"
+#include "osdmra/subdivision/shapes.h"
+#include "osdmra/geometry/surface_walk.h"
 
 using namespace osdmra;
 

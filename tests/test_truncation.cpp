@@ -1,10 +1,10 @@
 // Truncation (math.md 5): importance, selection, and the exact L2 error.
 #include <gtest/gtest.h>
 
-#include "osdmra/filter_bank.h"
-#include "osdmra/gram.h"
-#include "osdmra/shapes.h"
-#include "osdmra/truncation.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/mra/gram.h"
+#include "osdmra/subdivision/shapes.h"
+#include "osdmra/mra/truncation.h"
 
 using namespace osdmra;
 

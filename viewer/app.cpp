@@ -6,11 +6,11 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "osdmra/bundled_data.h"
-#include "osdmra/error.h"
-#include "osdmra/filter_bank.h"
-#include "osdmra/io.h"
-#include "osdmra/truncation.h"
+#include "osdmra/base/bundled_data.h"
+#include "osdmra/base/error.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/mra/truncation.h"
 
 namespace viewer {
 

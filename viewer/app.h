@@ -18,10 +18,10 @@
 #include <string>
 #include <thread>
 
-#include "osdmra/approximation.h"
-#include "osdmra/distance.h"
-#include "osdmra/recovery.h"
-#include "osdmra/remesh.h"
+#include "osdmra/mra/approximation.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/subdivision/recovery.h"
+#include "osdmra/remesh/remesh.h"
 #include "renderer.h"
 #include "smooth.h"
 

@@ -25,7 +25,7 @@
 
 #include "app.h"
 #include "camera.h"
-#include "osdmra/error.h"
+#include "osdmra/base/error.h"
 #include "renderer.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // Uses the installed osdmra: refines an octahedron twice and checks the sizes and
 // the refinement matrices (which come from OpenSubdiv, so its linkage is exercised).
-#include <osdmra/error.h>
-#include <osdmra/hierarchy.h>
+#include <osdmra/base/error.h>
+#include <osdmra/subdivision/hierarchy.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,0 +1,34 @@
+// Self-intersection of a triangle mesh: pairs of triangles that cross each other
+// without being neighbours. A remeshed surface must have none (remesh.h), and a
+// user handing osdmra a mesh may want to know.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "osdmra/mesh/mesh.h"
+
+namespace osdmra {
+
+struct SelfIntersections {
+  /// Pairs of faces (f < g) that meet where they should not: faces with no common
+  /// vertex that touch or cross, and faces with one common vertex whose opposite edge
+  /// passes through the other (a fold at that vertex). Faces sharing an edge are not
+  /// tested (a fold across an edge turns a face over: see Remeshing::flippedTriangles).
+  long long count = 0;
+  /// The first pairs found, in face order of f (at most `maxListed`).
+  std::vector<std::array<int, 2>> pairs;
+};
+
+/// Whether triangles f and g (rows of vertex indices into V) meet where they should
+/// not, by the rule of SelfIntersections::count (false when they share an edge).
+bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::array<int, 3>& g);
+
+/// Tests every pair of faces whose bounding boxes overlap (a bounding volume
+/// hierarchy finds them), on all cores. Exact up to rounding: segment-triangle tests
+/// with a relative tolerance of 1e-12, so two faces that merely touch at a point may
+/// or may not count. Coplanar overlaps of disjoint faces are not detected. Throws
+/// Error for a mesh without faces.
+SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed = 16);
+
+}  // namespace osdmra

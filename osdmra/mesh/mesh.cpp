@@ -1,0 +1,247 @@
+#include "osdmra/mesh/mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/connectivity.h"
+
+namespace osdmra {
+namespace {
+
+std::string str(long long i) {
+  return std::to_string(i);
+}
+
+/// Shortest round-trip decimal: "nan", "inf", "0.1" (not "0.100000").
+std::string real(double x) {
+  char digits[32];
+  const auto r = std::to_chars(digits, digits + sizeof digits, x);
+  return std::string(digits, r.ptr);
+}
+
+/// "face 7 (0, 1, 4)": naming the vertices lets a user find the face in a viewer.
+std::string faceText(const Faces& F, int f) {
+  return "face " + str(f) + " (" + str(F(f, 0)) + ", " + str(F(f, 1)) + ", " + str(F(f, 2)) + ")";
+}
+
+/// Halfedges grouped by undirected edge; built only on the error paths, where
+/// messages need every face on an edge.
+class EdgeHalfedges {
+ public:
+  explicit EdgeHalfedges(const Connectivity& conn)
+      : offset_(static_cast<std::size_t>(conn.numEdges()) + 1, 0) {
+    const int nh = 3 * conn.numFaces();
+    for (int h = 0; h < nh; ++h) ++offset_[conn.edge(h) + 1];
+    std::partial_sum(offset_.begin(), offset_.end(), offset_.begin());
+    halfedges_.resize(static_cast<std::size_t>(nh));
+    std::vector<int> fill(offset_.begin(), offset_.end() - 1);
+    for (int h = 0; h < nh; ++h) halfedges_[fill[conn.edge(h)]++] = h;
+  }
+  std::vector<int> of(int e) const {
+    return {halfedges_.begin() + offset_[e], halfedges_.begin() + offset_[e + 1]};
+  }
+
+ private:
+  std::vector<int> offset_, halfedges_;
+};
+
+/// The halfedge other than h on h's edge that runs the same way, or -1.
+int sameWay(const Connectivity& conn, const EdgeHalfedges& byEdge, int h) {
+  for (int g : byEdge.of(conn.edge(h)))
+    if (g != h && conn.from(g) == conn.from(h)) return g;
+  return -1;
+}
+
+/// How many of face f's edges run the same way as a neighbour's edge.
+int disagreements(const Connectivity& conn, const EdgeHalfedges& byEdge, int f) {
+  int n = 0;
+  for (int i = 0; i < 3; ++i) n += sameWay(conn, byEdge, 3 * f + i) >= 0 ? 1 : 0;
+  return n;
+}
+
+bool sameVertices(const Faces& F, int f, int g) {
+  std::array<int, 3> a{F(f, 0), F(f, 1), F(f, 2)}, b{F(g, 0), F(g, 1), F(g, 2)};
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  return a == b;
+}
+
+std::string duplicateMessage(const Faces& F, int f, int g) {
+  return faceText(F, g) + " duplicates " + faceText(F, f) + "; remove the duplicate face";
+}
+
+std::string nonManifoldEdgeMessage(const Connectivity& conn, int f) {
+  const EdgeHalfedges byEdge(conn);
+  for (int i = 0; i < 3; ++i) {
+    const std::vector<int> hs = byEdge.of(conn.edge(3 * f + i));
+    if (hs.size() <= 2) continue;
+    // A duplicated face is the usual cause of a third face on an edge: say so.
+    for (std::size_t p = 0; p < hs.size(); ++p)
+      for (std::size_t q = p + 1; q < hs.size(); ++q)
+        if (sameVertices(conn.faces(), hs[p] / 3, hs[q] / 3))
+          return duplicateMessage(conn.faces(), hs[p] / 3, hs[q] / 3);
+    const int a = conn.from(3 * f + i), b = conn.to(3 * f + i);
+    std::string faces;
+    for (int h : hs)
+      faces += (faces.empty() ? "" : ", ") + str(h / 3) + " (" + str(conn.from(h)) + "->" +
+               str(conn.to(h)) + ")";
+    return faceText(conn.faces(), f) + ": edge (" + str(a) + ", " + str(b) + ") is shared by " +
+           str(static_cast<long long>(hs.size())) + " faces [" + faces +
+           "]; a non-manifold edge (osdmra needs at most two faces per edge)";
+  }
+  return faceText(conn.faces(), f) + " has a non-manifold edge";  // not reached
+}
+
+std::string flippedFaceMessage(const Connectivity& conn, int f) {
+  const Faces& F = conn.faces();
+  const EdgeHalfedges byEdge(conn);
+  for (int i = 0; i < 3; ++i) {
+    const int h = 3 * f + i, other = sameWay(conn, byEdge, h);
+    if (other < 0) continue;
+    const int g = other / 3;
+    const std::string edge = str(conn.from(h)) + "->" + str(conn.to(h));
+    if (sameVertices(F, f, g)) return duplicateMessage(F, f, g);
+    // A single flipped face in an otherwise consistent mesh disagrees with all of
+    // its neighbours, the neighbour only on the shared edge: name the likely one.
+    const int df = disagreements(conn, byEdge, f), dg = disagreements(conn, byEdge, g);
+    const int culprit = df > dg ? f : g, neighbour = culprit == f ? g : f;
+    const int dc = std::max(df, dg);
+    std::string message = faceText(F, culprit) + " is oriented inconsistently with " +
+                          faceText(F, neighbour) + ": both run edge " + edge +
+                          " the same way, so the faces cannot share a consistent outside";
+    if (df != dg)
+      message += "; " + str(dc) + " of face " + str(culprit) +
+                 "'s 3 edges disagree with neighbours, so reverse its winding";
+    else
+      message += "; reverse one of them (or the surface is not orientable, like a Moebius strip)";
+    return message;
+  }
+  return faceText(F, f) + " is oriented inconsistently";  // not reached
+}
+
+std::string nonManifoldVertexMessage(const Faces& F, int v) {
+  // v's faces, grouped into fans: two faces are in one fan if they share an edge
+  // at v. A manifold vertex has exactly one fan.
+  std::vector<int> faces;
+  for (int f = 0; f < F.rows(); ++f)
+    if (F(f, 0) == v || F(f, 1) == v || F(f, 2) == v) faces.push_back(f);
+  std::vector<int> parent(faces.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  // (neighbour, face) pairs sorted by neighbour: faces listing the same neighbour
+  // w share the edge {v, w}. Sorting keeps this O(k log k) for a k-face vertex.
+  std::vector<std::pair<int, int>> byNeighbour;
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      if (F(faces[i], a) != v) byNeighbour.emplace_back(F(faces[i], a), static_cast<int>(i));
+  std::sort(byNeighbour.begin(), byNeighbour.end());
+  for (std::size_t k = 1; k < byNeighbour.size(); ++k)
+    if (byNeighbour[k].first == byNeighbour[k - 1].first)
+      parent[find(byNeighbour[k].second)] = find(byNeighbour[k - 1].second);
+  std::vector<int> fanFace;  // one face per fan
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (find(static_cast<int>(i)) == static_cast<int>(i)) fanFace.push_back(faces[i]);
+  std::string message = "vertex " + str(v) + " is non-manifold: ";
+  if (fanFace.size() >= 2) {
+    message += "its " + str(static_cast<long long>(faces.size())) + " faces form " +
+               str(static_cast<long long>(fanFace.size())) +
+               " separate fans that touch only at this vertex (a 'bowtie'; e.g. face " +
+               str(fanFace[0]) + " and face " + str(fanFace[1]) + ")";
+  } else {
+    message += "its faces do not form a single disc or half-disc around it";
+  }
+  return message + "; split the vertex, one copy per fan";
+}
+
+}  // namespace
+
+double boundingBoxDiagonal(const Points& V) {
+  if (V.rows() == 0) return 0.0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+void validate(const TriMesh& mesh, const std::string& source) {
+  const auto fail = [&](const std::string& what) { throw Error(source + ": " + what); };
+  const Faces& F = mesh.F;
+  const Eigen::Index nv = mesh.V.rows(), nf = F.rows();
+  if (nf == 0)
+    fail(nv == 0 ? std::string("mesh is empty (no vertices, no faces)")
+                 : "mesh has no faces (" + str(static_cast<long long>(nv)) + " vertices)");
+  constexpr Eigen::Index kMax = std::numeric_limits<int>::max();
+  if (nv > kMax || nf > kMax / 3)
+    fail("mesh too large (" + str(static_cast<long long>(nv)) + " vertices, " +
+         str(static_cast<long long>(nf)) + " faces) for 32-bit indices");
+
+  // Cheap per-element checks first: Connectivity assumes indices in range.
+  for (int f = 0; f < nf; ++f)
+    for (int i = 0; i < 3; ++i)
+      if (F(f, i) < 0 || F(f, i) >= nv)
+        fail("face " + str(f) + ", corner " + str(i) + ": vertex index " + str(F(f, i)) +
+             " is out of range (the mesh has " + str(static_cast<long long>(nv)) + " vertices)");
+  for (int f = 0; f < nf; ++f) {
+    const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    if (a == b || b == c || a == c)
+      fail(faceText(F, f) + " uses vertex " + str(a == b || a == c ? a : b) +
+           " twice (a degenerate triangle)");
+  }
+  for (int v = 0; v < nv; ++v)
+    if (!mesh.V.row(v).allFinite())
+      fail("vertex " + str(v) + " has a non-finite coordinate (" + real(mesh.V(v, 0)) + ", " +
+           real(mesh.V(v, 1)) + ", " + real(mesh.V(v, 2)) + ")");
+  if (mesh.N.rows() != 0 && mesh.N.rows() != nv)
+    fail("mesh has " + str(static_cast<long long>(mesh.N.rows())) + " normals for " +
+         str(static_cast<long long>(nv)) + " vertices (expected one per vertex, or none)");
+
+  // Topology. Order matters: a non-manifold edge or a flipped face also breaks the
+  // fans of its vertices, so report the edge or face, the actual cause, first.
+  const Connectivity conn(F, static_cast<int>(nv));
+  if (conn.firstIsolatedVertex >= 0)
+    fail("vertex " + str(conn.firstIsolatedVertex) +
+         " is not used by any face (an isolated vertex); remove unreferenced vertices");
+  if (conn.firstNonManifoldEdgeFace >= 0)
+    fail(nonManifoldEdgeMessage(conn, conn.firstNonManifoldEdgeFace));
+  if (conn.firstFlippedFace >= 0) fail(flippedFaceMessage(conn, conn.firstFlippedFace));
+  if (conn.firstNonManifoldVertex >= 0)
+    fail(nonManifoldVertexMessage(F, conn.firstNonManifoldVertex));
+}
+
+int removeUnreferencedVertices(TriMesh& mesh) {
+  const Eigen::Index n = mesh.V.rows();
+  std::vector<int> newIndex(static_cast<std::size_t>(n), -1);
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k);
+      if (v < 0 || v >= n)
+        throw Error("face " + std::to_string(f) + " has vertex index " + std::to_string(v) +
+                    ", out of range");
+      newIndex[v] = 0;
+    }
+  int kept = 0;
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (newIndex[v] == 0) newIndex[v] = kept++;
+  if (kept == n) return 0;
+  Points V(kept, 3), N(mesh.N.rows() == n ? kept : 0, 3);
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (newIndex[v] >= 0) {
+      V.row(newIndex[v]) = mesh.V.row(v);
+      if (N.rows()) N.row(newIndex[v]) = mesh.N.row(v);
+    }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) mesh.F(f, k) = newIndex[mesh.F(f, k)];
+  mesh.V = std::move(V);
+  mesh.N = std::move(N);
+  return static_cast<int>(n - kept);
+}
+
+}  // namespace osdmra

@@ -1,0 +1,109 @@
+#include "osdmra/mra/approximation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "osdmra/base/error.h"
+
+namespace osdmra {
+
+Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
+                           ApproximationOptions options)
+    : bank_(bank),
+      d_(d),
+      options_(options),
+      importance_(osdmra::importance(d, bank.norms, options.importance)) {
+  // One sort serves every extraction: keeping k coefficients is a prefix.
+  for (std::size_t j = 0; j < importance_.size(); ++j)
+    for (Eigen::Index i = 0; i < importance_[j].size(); ++i)
+      order_.emplace_back(static_cast<int>(j), static_cast<int>(i));
+  std::stable_sort(order_.begin(), order_.end(), [&](const auto& a, const auto& b) {
+    return importance_[a.first](a.second) > importance_[b.first](b.second);
+  });
+  const Hierarchy& h = *bank.hierarchy;
+  if (bank.scheme == Scheme::Loop)
+    limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
+  full_.F = h.faces(h.levels());
+  fullControls_ = synthesize(bank, d, d.levels);
+  full_.V = positions(fullControls_, &full_.N);
+}
+
+Points Approximator::positions(const Points& controls, Points* normals) const {
+  if (!limit_) {
+    if (normals) normals->resize(0, 3);
+    return controls;
+  }
+  if (normals) *normals = unitNormals(limit_->tangent1 * controls, limit_->tangent2 * controls);
+  return limit_->position * controls;
+}
+
+KeepMask Approximator::maskOfCount(long long count) const {
+  KeepMask keep(importance_.size());
+  for (std::size_t j = 0; j < importance_.size(); ++j)
+    keep[j].assign(static_cast<std::size_t>(importance_[j].size()), 0);
+  count = std::clamp<long long>(count, 0, numCoefficients());
+  for (long long k = 0; k < count; ++k) keep[order_[k].first][order_[k].second] = 1;
+  return keep;
+}
+
+Approximation Approximator::make(const KeepMask& selection) const {
+  Approximation a;
+  a.total = numCoefficients();
+  a.selected = countKept(selection);
+  a.keep = options_.saturate ? saturate(*bank_.hierarchy, selection) : selection;
+  a.kept = countKept(a.keep);
+  a.lod = extractLod(*bank_.hierarchy, a.keep);
+  const Points controls = synthesize(bank_, truncate(d_, a.keep), d_.levels);
+  // Only the LOD's vertices are evaluated: rows of the limit stencils (or of the
+  // controls themselves for the polyhedral scheme).
+  const int n = static_cast<int>(a.lod.vertices.size());
+  a.mesh.V.resize(n, 3);
+  if (limit_) {
+    Points du(n, 3), dv(n, 3);
+    for (int i = 0; i < n; ++i) {
+      const int v = a.lod.vertices[i];
+      a.mesh.V.row(i) = limit_->position.row(v) * controls;
+      du.row(i) = limit_->tangent1.row(v) * controls;
+      dv.row(i) = limit_->tangent2.row(v) * controls;
+    }
+    a.mesh.N = unitNormals(du, dv);
+  } else {
+    for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
+  }
+  a.mesh.F = a.lod.compactFaces;
+  return a;
+}
+
+Approximation Approximator::keepCount(long long count) const {
+  return make(maskOfCount(count));
+}
+
+Approximation Approximator::keepFraction(double fraction) const {
+  if (!(fraction >= 0.0 && fraction <= 1.0))
+    throw Error("the fraction of coefficients kept must be in [0, 1]");
+  return keepCount(std::llround(fraction * static_cast<double>(numCoefficients())));
+}
+
+Approximation Approximator::keepAbove(double epsilon) const {
+  return make(osdmra::keepAbove(importance_, epsilon));
+}
+
+const std::vector<long long>& Approximator::triangleCounts() const {
+  std::call_once(countsOnce_, [&] { counts_ = lodTriangleCounts(*bank_.hierarchy, order_); });
+  return counts_;
+}
+
+Approximation Approximator::budget(long long triangles) const {
+  // Largest count whose mesh fits: the counts never decrease, so a binary search.
+  const std::vector<long long>& counts = triangleCounts();
+  const auto fits = std::upper_bound(counts.begin(), counts.end(), triangles);
+  if (fits == counts.begin()) return keepCount(0);  // the base mesh is the coarsest there is
+  return keepCount(static_cast<long long>(fits - counts.begin()) - 1);
+}
+
+double Approximator::l2Error(const Approximation& a) const {
+  return l2Distance(*bank_.hierarchy, bank_.scheme,
+                    synthesize(bank_, truncate(d_, a.keep), d_.levels), fullControls_);
+}
+
+}  // namespace osdmra

@@ -1,0 +1,47 @@
+// Truncation: keep the significant wavelet coefficients (paper section 4, math.md 5).
+//
+// A coefficient's importance is |d^j_m| * ||psi^j_m|| by default, so coefficients of
+// different levels compare by their effect on the surface (||psi|| shrinks about 2x
+// per level); the paper's plain |d^j_m| is available too. Quasi-wavelets are not
+// orthogonal, so the error of a truncation is measured, not summed from the dropped
+// terms: l2Distance() is the exact parametric L2 norm of the difference.
+#pragma once
+
+#include <vector>
+
+#include "osdmra/mra/decomposition.h"
+#include "osdmra/subdivision/hierarchy.h"
+
+namespace osdmra {
+
+enum class Importance {
+  Scaled,  ///< |d| * ||psi|| (default)
+  Plain,   ///< |d|, as in the paper
+};
+
+/// Importance of every detail coefficient, level by level (same shapes as d.details).
+/// `norms` are the ||psi^j_m|| from waveletCorrections (needed for Scaled only).
+std::vector<Eigen::VectorXd> importance(const Decomposition& d,
+                                        const std::vector<Eigen::VectorXd>& norms,
+                                        Importance kind = Importance::Scaled);
+
+/// Mask of kept coefficients, level by level.
+using KeepMask = std::vector<std::vector<char>>;
+
+/// Keeps the `count` most important coefficients (ties: coarser level first, then
+/// lower index, so the result is deterministic).
+KeepMask keepLargest(const std::vector<Eigen::VectorXd>& importance, long long count);
+/// Keeps every coefficient whose importance is at least `epsilon`.
+KeepMask keepAbove(const std::vector<Eigen::VectorXd>& importance, double epsilon);
+/// Number of kept coefficients.
+long long countKept(const KeepMask& keep);
+
+/// A copy of `d` with the coefficients outside `keep` set to zero.
+Decomposition truncate(const Decomposition& d, const KeepMask& keep);
+
+/// Exact parametric L2 distance between two functions of V^J given by their level-J
+/// coefficients: sqrt(sum over x, y, z of e^T I^J e), e = a - b. Each base triangle
+/// has area 1, so dividing the square by the base face count gives a mean square.
+double l2Distance(const Hierarchy& h, Scheme scheme, const Points& a, const Points& b);
+
+}  // namespace osdmra

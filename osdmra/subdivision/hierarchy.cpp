@@ -1,0 +1,388 @@
+#include "osdmra/subdivision/hierarchy.h"
+
+#include <opensubdiv/far/error.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <Eigen/Geometry>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include "osdmra/base/error.h"
+
+namespace osdmra {
+
+namespace Far = OpenSubdiv::Far;
+namespace Sdc = OpenSubdiv::Sdc;
+
+const char* schemeName(Scheme s) {
+  return s == Scheme::Loop ? "loop" : "linear";
+}
+
+Scheme parseScheme(const std::string& name) {
+  if (name == "loop") return Scheme::Loop;
+  if (name == "linear" || name == "polyhedral") return Scheme::Linear;
+  throw Error("unknown scheme '" + name + "' (expected loop or linear)");
+}
+
+namespace {
+
+// OpenSubdiv reports errors through a global callback; we keep the last message of
+// this thread and turn a failed factory call into an Error.
+thread_local std::string lastFarError;
+void farErrorCallback(Far::ErrorType, const char* message) {
+  lastFarError = message;
+}
+void farWarningCallback(const char*) {}
+std::once_flag callbackOnce;
+
+// A primvar that records (row, column, weight) instead of adding values: driving
+// PrimvarRefiner with it yields the refinement matrix itself.
+struct Source {
+  int index;
+};
+struct Collector {
+  std::vector<Eigen::Triplet<double>>* out;
+  int row;
+  void Clear() {}
+  void AddWithWeight(const Source& s, double w) { out->emplace_back(row, s.index, w); }
+  // Only reached for schemes with face-centre vertices (never for Loop on triangles),
+  // which PrimvarRefiner instantiates regardless.
+  void AddWithWeight(const Collector&, double) {
+    throw Error("internal: unexpected face-vertex interpolation in a Loop refinement");
+  }
+};
+struct CollectorArray {
+  std::vector<Eigen::Triplet<double>>* out;
+  Collector operator[](int i) const { return Collector{out, i}; }
+};
+struct SourceArray {
+  Source operator[](int i) const { return Source{i}; }
+};
+
+}  // namespace
+
+struct Hierarchy::Impl {
+  std::vector<Faces> faces;
+  std::vector<int> numVertices;
+  std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
+  std::vector<SparseMatrix> P[2];                      // [Loop, Linear] per level
+  // Connectivity is built on first use: analysis never walks the finest level.
+  mutable std::vector<std::unique_ptr<Connectivity>> conn;
+  mutable std::vector<std::once_flag> connOnce;
+};
+
+namespace {
+
+// An unrefined Loop refiner over a triangle mesh, with osdmra's boundary rule;
+// OpenSubdiv's complaints become an Error about `what`.
+std::unique_ptr<Far::TopologyRefiner> createLoopRefiner(const Faces& F, int numVertices,
+                                                        const std::string& what) {
+  std::call_once(callbackOnce, [] {
+    Far::SetErrorCallback(farErrorCallback);
+    Far::SetWarningCallback(farWarningCallback);
+  });
+  std::vector<int> vertsPerFace(F.rows(), 3);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = numVertices;
+  desc.numFaces = static_cast<int>(F.rows());
+  desc.numVertsPerFace = vertsPerFace.data();
+  desc.vertIndicesPerFace = F.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  lastFarError.clear();
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  if (!refiner) throw Error("OpenSubdiv rejected " + what + ": " + lastFarError);
+  return refiner;
+}
+
+// P^{j+1} from OpenSubdiv's interpolation with the recording primvar.
+SparseMatrix extractRefinement(const Far::TopologyRefiner& R, Scheme scheme, int j) {
+  const int rows = R.GetLevel(j + 1).GetNumVertices(), cols = R.GetLevel(j).GetNumVertices();
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(rows) * (scheme == Scheme::Loop ? 7 : 2));
+  Far::PrimvarRefinerReal<double> refiner(R);
+  SourceArray src;
+  CollectorArray dst{&triplets};
+  if (scheme == Scheme::Loop)
+    refiner.Interpolate(j + 1, src, dst);
+  else
+    refiner.InterpolateVarying(j + 1, src, dst);
+  SparseMatrix P(rows, cols);
+  P.setFromTriplets(triplets.begin(), triplets.end());
+  P.makeCompressed();
+  return P;
+}
+
+}  // namespace
+
+Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels)
+    : impl_(std::make_unique<Impl>()) {
+  if (levels < 0 || levels > 15)
+    throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
+  // The refiner lives only as long as the constructor: everything osdmra needs from
+  // it (faces, edges, both refinement matrices) is copied out, which costs less
+  // memory than OpenSubdiv's full topology of every level.
+  const std::unique_ptr<Far::TopologyRefiner> refiner =
+      createLoopRefiner(baseFaces, numBaseVertices, "the base mesh");
+  if (levels > 0) {
+    Far::TopologyRefiner::UniformOptions uniform(levels);
+    // The last level needs its faces only: its edges and adjacency are never read.
+    uniform.fullTopologyInLastLevel = false;
+    refiner->RefineUniform(uniform);
+  }
+
+  const Far::TopologyRefiner& R = *refiner;
+  for (int j = 0; j <= levels; ++j) {
+    const Far::TopologyLevel& L = R.GetLevel(j);
+    Faces F(L.GetNumFaces(), 3);
+    for (int f = 0; f < L.GetNumFaces(); ++f) {
+      auto fv = L.GetFaceVertices(f);
+      for (int i = 0; i < 3; ++i) F(f, i) = fv[i];
+    }
+    // Check the index conventions of the file comment against the refiner itself.
+    if (j < levels) {
+      const int n = L.GetNumVertices();
+      for (int v = 0; v < n; ++v)
+        if (L.GetVertexChildVertex(v) != v)
+          throw Error("OpenSubdiv vertex ordering is not vertices-first at level " +
+                      std::to_string(j));
+      for (int e = 0; e < L.GetNumEdges(); ++e)
+        if (L.GetEdgeChildVertex(e) != n + e)
+          throw Error("OpenSubdiv edge-vertex ordering unexpected at level " + std::to_string(j));
+      for (int f = 0; f < L.GetNumFaces(); ++f) {
+        auto cf = L.GetFaceChildFaces(f);
+        for (int i = 0; i < cf.size(); ++i)
+          if (cf[i] != 4 * f + i)
+            throw Error("OpenSubdiv child-face ordering unexpected at level " + std::to_string(j));
+      }
+      std::vector<std::array<int, 2>> E(L.GetNumEdges());
+      for (int e = 0; e < L.GetNumEdges(); ++e) {
+        auto ev = L.GetEdgeVertices(e);
+        E[e] = {ev[0], ev[1]};
+      }
+      impl_->edges.push_back(std::move(E));
+      impl_->P[0].push_back(extractRefinement(R, Scheme::Loop, j));
+      impl_->P[1].push_back(extractRefinement(R, Scheme::Linear, j));
+    }
+    impl_->numVertices.push_back(L.GetNumVertices());
+    impl_->faces.push_back(std::move(F));
+  }
+  impl_->conn.resize(levels + 1);
+  impl_->connOnce = std::vector<std::once_flag>(levels + 1);
+}
+
+Hierarchy::~Hierarchy() = default;
+Hierarchy::Hierarchy(Hierarchy&&) noexcept = default;
+Hierarchy& Hierarchy::operator=(Hierarchy&&) noexcept = default;
+
+int Hierarchy::levels() const {
+  return static_cast<int>(impl_->faces.size()) - 1;
+}
+int Hierarchy::numVertices(int j) const {
+  return impl_->numVertices[j];
+}
+int Hierarchy::numFaces(int j) const {
+  return static_cast<int>(impl_->faces[j].rows());
+}
+const Faces& Hierarchy::faces(int j) const {
+  return impl_->faces[j];
+}
+
+const Connectivity& Hierarchy::connectivity(int j) const {
+  std::call_once(impl_->connOnce[j], [&] {
+    impl_->conn[j] = std::make_unique<Connectivity>(impl_->faces[j], impl_->numVertices[j]);
+  });
+  return *impl_->conn[j];
+}
+
+std::array<int, 2> Hierarchy::parentEdge(int j, int e) const {
+  return impl_->edges[j][e];
+}
+
+int Hierarchy::midpoint(int j, int a, int b) const {
+  // The child faces of face f = (v0, v1, v2) are (v0, m0, m2), (m0, v1, m1), ...:
+  // the midpoint of the face's edge i is read off them.
+  const Connectivity& c = connectivity(j);
+  const Faces& fine = impl_->faces[j + 1];
+  auto fromHalfedge = [&](int h) {
+    const int f = h / 3, i = h % 3;
+    return i == 0 ? fine(4 * f, 1) : i == 1 ? fine(4 * f + 1, 2) : fine(4 * f, 2);
+  };
+  for (int h : c.fan(a))
+    if (c.to(h) == b) return fromHalfedge(h);
+  for (int h : c.fan(b))
+    if (c.to(h) == a) return fromHalfedge(h);
+  return -1;
+}
+
+Hierarchy::LimitStencils Hierarchy::limitStencils(int level) const {
+  if (level < 0 || level > levels()) throw Error("limitStencils: level out of range");
+  const int n = numVertices(level);
+  // A refiner over M^level itself, unrefined: its only level has full topology, which
+  // Limit() needs, and the limit masks depend on the local topology alone.
+  const std::unique_ptr<Far::TopologyRefiner> refiner =
+      createLoopRefiner(faces(level), n, "level " + std::to_string(level));
+  std::vector<Eigen::Triplet<double>> tp, t1, t2;
+  tp.reserve(static_cast<std::size_t>(n) * 7);
+  t1.reserve(static_cast<std::size_t>(n) * 7);
+  t2.reserve(static_cast<std::size_t>(n) * 7);
+  SourceArray src;
+  CollectorArray dp{&tp}, d1{&t1}, d2{&t2};
+  Far::PrimvarRefinerReal<double>(*refiner).Limit(src, dp, d1, d2);
+  if (!lastFarError.empty()) throw Error("OpenSubdiv limit evaluation failed: " + lastFarError);
+  LimitStencils s;
+  for (auto [m, t] : {std::pair{&s.position, &tp}, {&s.tangent1, &t1}, {&s.tangent2, &t2}}) {
+    m->resize(n, n);
+    m->setFromTriplets(t->begin(), t->end());
+    m->makeCompressed();
+  }
+  return s;
+}
+
+void Hierarchy::loopLimit(int level, const Points& c, Points& positions, Points& normals) const {
+  if (c.rows() != numVertices(level))
+    throw Error("loopLimit: expected " + std::to_string(numVertices(level)) +
+                " control points at level " + std::to_string(level));
+  const LimitStencils s = limitStencils(level);
+  positions = s.position * c;
+  normals = unitNormals(s.tangent1 * c, s.tangent2 * c);
+}
+
+Points unitNormals(const Points& du, const Points& dv) {
+  Points normals(du.rows(), 3);
+  for (Eigen::Index v = 0; v < du.rows(); ++v) {
+    const Eigen::Vector3d nv = Eigen::Vector3d(du.row(v)).cross(Eigen::Vector3d(dv.row(v)));
+    const double len = nv.norm();
+    normals.row(v) = len > 0 ? Eigen::RowVector3d(nv / len) : Eigen::RowVector3d::Zero();
+  }
+  return normals;
+}
+
+const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {
+  if (j < 0 || j >= levels())
+    throw Error("refinement level " + std::to_string(j) + " out of range 0.." +
+                std::to_string(levels() - 1));
+  return impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
+}
+
+Faces Hierarchy::baseFacesFromCanonical(const Faces& finest, int levels) {
+  const long long stride = 1LL << (2 * levels);
+  if (levels < 0 || levels > 15) throw Error("levels must be in 0..15");
+  if (finest.rows() == 0 || finest.rows() % stride != 0) {
+    std::ostringstream os;
+    os << "a mesh of " << finest.rows() << " faces cannot be " << levels
+       << " uniform refinements in canonical order (the face count must be a multiple of 4^"
+       << levels << ")";
+    throw Error(os.str());
+  }
+  // Corner i of base face f is corner i of the level-J face reached by always taking
+  // the child at corner i: child index i at every level.
+  Faces base(finest.rows() / stride, 3);
+  for (Eigen::Index f = 0; f < base.rows(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      long long g = f;
+      for (int l = 0; l < levels; ++l) g = 4 * g + i;
+      base(f, i) = finest(g, i);
+    }
+  return base;
+}
+
+namespace {
+
+// Vertex count of M^levels over `base`, from Euler's relations for a 1-to-4 split:
+// n' = n + E, E' = 2E + 3F, F' = 4F. Returns -1 on overflow of int.
+long long predictedVertices(const Faces& base, int n0, int levels) {
+  const Connectivity c(base, n0);
+  long long n = n0, e = c.numEdges(), f = base.rows();
+  for (int j = 0; j < levels; ++j) {
+    n += e;
+    e = 2 * e + 3 * f;
+    f *= 4;
+  }
+  return n;
+}
+
+// Base faces and vertex count if `finest` can be canonical at `levels`, else false.
+bool canonicalBase(const Faces& finest, int numVertices, int levels, Faces& base, int& n0,
+                   std::string& why) {
+  if (finest.rows() == 0 || finest.rows() % (1LL << (2 * levels)) != 0) {
+    why = "the face count " + std::to_string(finest.rows()) + " is not a multiple of 4^" +
+          std::to_string(levels);
+    return false;
+  }
+  base = Hierarchy::baseFacesFromCanonical(finest, levels);
+  n0 = base.rows() ? base.maxCoeff() + 1 : 0;
+  if (base.minCoeff() < 0 || n0 > numVertices) {
+    why = "base face indices are out of range";
+    return false;
+  }
+  std::vector<char> used(n0, 0);
+  for (Eigen::Index i = 0; i < base.size(); ++i) used[base.data()[i]] = 1;
+  for (int v = 0; v < n0; ++v)
+    if (!used[v]) {
+      why = "vertex " + std::to_string(v) + " is not a corner of the implied base mesh";
+      return false;
+    }
+  const Connectivity c(base, n0);
+  if (c.firstNonManifoldEdgeFace >= 0 || c.firstFlippedFace >= 0 || c.firstNonManifoldVertex >= 0) {
+    why = "the implied base mesh is not a manifold";
+    return false;
+  }
+  const long long expected = predictedVertices(base, n0, levels);
+  if (expected != numVertices) {
+    why = "the implied base mesh of " + std::to_string(base.rows()) + " faces gives " +
+          std::to_string(expected) + " vertices at level " + std::to_string(levels) + ", not " +
+          std::to_string(numVertices);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Hierarchy Hierarchy::fromCanonical(const Faces& finest, int numVertices, int levels) {
+  if (levels < 0 || levels > 15)
+    throw Error("levels must be in 0..15, got " + std::to_string(levels));
+  Faces base;
+  int n0 = 0;
+  std::string why;
+  if (!canonicalBase(finest, numVertices, levels, base, n0, why))
+    throw Error("not in osdmra's canonical order for " + std::to_string(levels) +
+                " levels: " + why);
+  Hierarchy h(base, n0, levels);
+  const Faces& F = h.faces(levels);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    if (F.row(f) != finest.row(f)) {
+      std::ostringstream os;
+      os << "not in osdmra's canonical order for " << levels << " levels: face " << f << " is ("
+         << finest(f, 0) << " " << finest(f, 1) << " " << finest(f, 2) << "), expected (" << F(f, 0)
+         << " " << F(f, 1) << " " << F(f, 2) << ")";
+      throw Error(os.str());
+    }
+  return h;
+}
+
+int Hierarchy::detectCanonicalLevels(const Faces& finest, int numVertices) {
+  int J = 0;
+  while (J < 15 && finest.rows() % (1LL << (2 * (J + 1))) == 0) ++J;
+  for (; J > 0; --J) {
+    Faces base;
+    int n0 = 0;
+    std::string why;
+    if (!canonicalBase(finest, numVertices, J, base, n0, why)) continue;
+    try {
+      fromCanonical(finest, numVertices, J);
+      return J;
+    } catch (const Error&) {
+    }
+  }
+  return 0;
+}
+
+}  // namespace osdmra
