@@ -8,6 +8,7 @@
 
 #include "osdmra/base/bundled_data.h"
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/mra/truncation.h"
@@ -84,7 +85,7 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   report("preparing extraction", 0);
   a->approx = std::make_unique<osdmra::Approximator>(*a->bank, *a->d);
   const osdmra::TriMesh& full = a->approx->fullResolution();
-  a->fullNormals = full.N.rows() == full.V.rows() ? full.N : areaWeightedNormals(full);
+  a->fullNormals = full.N.rows() == full.V.rows() ? full.N : osdmra::vertexNormals(full);
   a->diagonal = osdmra::boundingBoxDiagonal(full.V);
   report("preparing error measurement", 0);
   a->fullBvh = std::make_unique<osdmra::TriangleBvh>(full);
@@ -111,7 +112,7 @@ Lod extract(const Analysis& a, const Selection& s) {
   lod.extractSeconds = secondsSince(t0);
   lod.normals = lod.approx.mesh.N.rows() == lod.approx.mesh.V.rows()
                     ? lod.approx.mesh.N
-                    : areaWeightedNormals(lod.approx.mesh);
+                    : osdmra::vertexNormals(lod.approx.mesh);
   return lod;
 }
 
@@ -151,23 +152,6 @@ DrawMesh lodMesh(const Lod& lod, double errorScale) {
       m.vertexValue[i] = errorScale > 0 ? static_cast<float>(lod.vertexError[i] / errorScale) : 0;
   }
   return m;
-}
-
-Points areaWeightedNormals(const osdmra::TriMesh& mesh) {
-  // The cross product of two edges is twice the area times the unit normal, so
-  // summing it weights each face by its area.
-  Points N = Points::Zero(mesh.V.rows(), 3);
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                          c = mesh.V.row(mesh.F(f, 2));
-    const Eigen::RowVector3d n = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) N.row(mesh.F(f, k)) += n;
-  }
-  for (Eigen::Index i = 0; i < N.rows(); ++i) {
-    const double len = N.row(i).norm();
-    if (len > 0) N.row(i) /= len;
-  }
-  return N;
 }
 
 std::vector<int> controlTriangles(const Analysis& a, int level) {

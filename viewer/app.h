@@ -98,9 +98,6 @@ void measureVertexErrors(const Analysis& a, Lod& lod);
 DrawMesh referenceMesh(const Analysis& a);
 DrawMesh lodMesh(const Lod& lod, double errorScale);
 
-/// Area-weighted vertex normals (the polyhedral surface has no limit normals).
-osdmra::Points areaWeightedNormals(const osdmra::TriMesh& mesh);
-
 /// Smooth mode: the truncated surface's control mesh at `level` (0..J) and its
 /// control points, 3 doubles each.
 std::vector<int> controlTriangles(const Analysis& a, int level);

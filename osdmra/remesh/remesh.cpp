@@ -13,6 +13,7 @@
 
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/geometry/distance.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
@@ -114,21 +115,6 @@ std::vector<int> followLine(const std::vector<std::vector<int>>& along, int from
 }
 
 // Face f's normal scaled by twice its area (the cross product of two edges).
-Vec3 faceNormal(const TriMesh& m, Eigen::Index f) {
-  const Vec3 a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
-  return (b - a).cross(c - a);
-}
-
-// Area-weighted vertex normals, unnormalised: the sum of faceNormal() around each.
-Points areaWeightedVertexNormals(const TriMesh& m) {
-  Points normals = Points::Zero(m.V.rows(), 3);
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    const Vec3 n = faceNormal(m, f);
-    for (int k = 0; k < 3; ++k) normals.row(m.F(f, k)) += n.transpose();
-  }
-  return normals;
-}
-
 struct Param {
   int face = -1;
   std::array<double, 3> bary{};  // over the face's corners, in its order
@@ -150,7 +136,7 @@ class Simplifier {
     // sharpest creases and their corners like the sharpest points of the surface;
     // they are noise: no feature, and removed first at any distortion (else a fold
     // survives as a base face, and every grid triangle in it comes out flipped).
-    const Points vertexNormals = areaWeightedVertexNormals(m);
+    const Points vertexNormals = vertexNormalSums(m);
     std::vector<Vec3> faceNormals(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) faceNormals[f] = faceNormal(m, f);
     fold_.assign(n, 0);
@@ -823,7 +809,7 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
   const double tinyArea = 1e-14 * diag * diag;
   TriMesh& m = out.mesh;
   const VertexRings rings(m.F, static_cast<int>(m.V.rows()));
-  const Points vertexNormals = areaWeightedVertexNormals(input);
+  const Points vertexNormals = vertexNormalSums(input);
   auto reference = [&](int v) {
     const Where& w = where[v];
     Vec3 n = Vec3::Zero();
