@@ -17,12 +17,12 @@
 #include <memory>
 #include <random>
 
-#include "osdmra/mra/approximation.h"
 #include "osdmra/base/bundled_data.h"
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/io.h"
-#include "osdmra/subdivision/recovery.h"
+#include "osdmra/pipeline.h"
 #include "osdmra/remesh/remesh.h"
+#include "osdmra/subdivision/recovery.h"
 #include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
@@ -76,16 +76,14 @@ void bmRecover(benchmark::State& state) {
 // The semi-regular input of the level-of-detail comparison, with its analysis.
 struct LodInput {
   TriMesh mesh;
-  std::unique_ptr<CanonicalSurface> surface;
-  std::unique_ptr<FilterBank> bank;
-  std::unique_ptr<Decomposition> d;
-  std::unique_ptr<Approximator> approx;
+  std::unique_ptr<AnalysedSurface> surface;
   std::vector<float> positions;  // for meshoptimizer
   std::vector<unsigned> indices;
+  const Approximator& approx() const { return surface->approximator(); }
 };
 
 // The bundled head (6 levels), refined by Loop subdivision to `levels` (>= 6).
-const LodInput& lodInput(Scheme scheme, int levels = 8) {
+LodInput& lodInput(Scheme scheme, int levels = 8) {
   static std::unique_ptr<LodInput> cache[2][16];
   std::unique_ptr<LodInput>& c = cache[scheme == Scheme::Loop ? 0 : 1][levels];
   if (!c) {
@@ -96,12 +94,12 @@ const LodInput& lodInput(Scheme scheme, int levels = 8) {
     Points V = head.V;
     for (int j = 6; j < levels; ++j) V = h.refinement(Scheme::Loop, j) * V;
     c->mesh = TriMesh{V, h.faces(levels), Points()};
-    c->surface = std::make_unique<CanonicalSurface>(canonicalSurface(c->mesh, levels));
-    c->bank = std::make_unique<FilterBank>(
-        makeFilterBank(c->surface->hierarchy, scheme, {WaveletKind::Quasi, kDefaultRings}));
-    c->d = std::make_unique<Decomposition>(analyze(*c->bank, c->surface->V));
-    c->approx = std::make_unique<Approximator>(*c->bank, *c->d);
-    c->approx->triangleCounts();  // once per surface, timed by bmApproximatorSetup
+    AnalysisOptions options;
+    options.levels = levels;
+    options.scheme = scheme;
+    options.wavelets = {WaveletKind::Quasi, kDefaultRings};
+    c->surface = std::make_unique<AnalysedSurface>(c->mesh, options);
+    c->approx().triangleCounts();  // once per surface, timed by bmApproximatorSetup
     for (Eigen::Index i = 0; i < V.rows(); ++i)
       for (int k = 0; k < 3; ++k) c->positions.push_back(static_cast<float>(V(i, k)));
     for (Eigen::Index f = 0; f < c->mesh.F.rows(); ++f)
@@ -123,7 +121,7 @@ void bmOsdmraLod(benchmark::State& state, Scheme scheme, long long triangles) {
   const LodInput& in = lodInput(scheme);
   Approximation a;
   for (auto _ : state) {
-    a = in.approx->budget(triangles);
+    a = in.approx().budget(triangles);
     benchmark::DoNotOptimize(a);
   }
   // Against the input itself (polyhedral: the full-resolution surface is the input).
@@ -134,10 +132,11 @@ void bmOsdmraLod(benchmark::State& state, Scheme scheme, long long triangles) {
 // sort of the coefficients, the full-resolution reference, limit stencils for Loop)
 // and the triangle count of every prefix of the importance order.
 void bmApproximatorSetup(benchmark::State& state, Scheme scheme) {
-  const LodInput& in = lodInput(scheme);
+  // Replaces the approximator the extraction benchmarks use by an identical one.
+  LodInput& in = lodInput(scheme);
   for (auto _ : state) {
-    Approximator approx(*in.bank, *in.d);
-    benchmark::DoNotOptimize(approx.triangleCounts().back());
+    in.surface->setApproximation({});
+    benchmark::DoNotOptimize(in.approx().triangleCounts().back());
   }
 }
 
@@ -166,9 +165,9 @@ int printTable() {
   for (long long budget : {4054LL, 12310LL, 16098LL}) {
     for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
       const LodInput& in = lodInput(s, 6);
-      const Approximation a = in.approx->budget(budget);
+      const Approximation a = in.approx().budget(budget);
       DistanceOptions o;
-      const SurfaceDistance d = surfaceDistance(a.mesh, in.approx->fullResolution(), o);
+      const SurfaceDistance d = surfaceDistance(a.mesh, in.approx().fullResolution(), o);
       std::printf("| osdmra %s | %lld | %d | %.3e | %.3e |\n", schemeName(s), budget, a.triangles(),
                   d.rmsRelative, d.hausdorffRelative);
     }

@@ -1,4 +1,9 @@
-// osdmra_bench: osdmra against OpenSubdiv on displaced octahedra, J = 5..9.
+// osdmra_bench: osdmra's layers against OpenSubdiv on displaced octahedra, J = 5..9.
+//
+// A layer benchmark: each stage below the pipeline (hierarchy, connectivity, the
+// filter bank's precomputation, analysis, synthesis) is timed alone, beside
+// OpenSubdiv's own stages, so it builds them itself. The pipeline as the front ends
+// use it (osdmra/pipeline.h) is timed in lod_bench.cpp.
 //
 // Inputs: osdmra::subdivide(shapes::octahedron(), J, scheme, 0.02, seed 3), built
 // once per (J, scheme) and kept in static storage; nothing of the setup is timed.
@@ -125,12 +130,15 @@ Cache& cacheFor(int J) {
   return c;
 }
 
-int schemeIndex(Scheme s) { return s == Scheme::Loop ? 0 : 1; }
+int schemeIndex(Scheme s) {
+  return s == Scheme::Loop ? 0 : 1;
+}
 
 const Hierarchy& hierarchy(int J) {
   Cache& c = cacheFor(J);
   if (!c.hierarchy)
-    c.hierarchy = std::make_unique<Hierarchy>(baseMesh().F, static_cast<int>(baseMesh().V.rows()), J);
+    c.hierarchy =
+        std::make_unique<Hierarchy>(baseMesh().F, static_cast<int>(baseMesh().V.rows()), J);
   return *c.hierarchy;
 }
 
@@ -296,8 +304,7 @@ std::string waveletName(WaveletKind kind, int rings) {
 
 template <class Fn>
 void add(const std::string& name, Fn&& fn) {
-  benchmark::RegisterBenchmark(name.c_str(), std::forward<Fn>(fn))
-      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark(name.c_str(), std::forward<Fn>(fn))->Unit(benchmark::kMillisecond);
 }
 
 void registerAll() {

@@ -90,12 +90,14 @@ int levels(const TriMesh& base, int J, Scheme scheme, const WaveletOptions& w, i
       c = std::move(coarse);
     }
   }
-  std::printf("level  n_j        solveOldBlock ms  ns/row/iteration  analysisStep ms  BiCGSTAB iterations (x, y, z)\n");
+  std::printf(
+      "level  n_j        solveOldBlock ms  ns/row/iteration  analysisStep ms  BiCGSTAB iterations "
+      "(x, y, z)\n");
   for (int j = J - 1; j >= 0; --j) {
     const long its = iterations[j][0] + iterations[j][1] + iterations[j][2];
-    std::printf("%5d  %-9d  %16.2f  %16.1f  %15.2f  %ld, %ld, %ld\n", j, h.numVertices(j), solveMs[j],
-                its > 0 ? solveMs[j] * 1e6 / (double(h.numVertices(j)) * its) : 0.0, stepMs[j],
-                iterations[j][0], iterations[j][1], iterations[j][2]);
+    std::printf("%5d  %-9d  %16.2f  %16.1f  %15.2f  %ld, %ld, %ld\n", j, h.numVertices(j),
+                solveMs[j], its > 0 ? solveMs[j] * 1e6 / (double(h.numVertices(j)) * its) : 0.0,
+                stepMs[j], iterations[j][0], iterations[j][1], iterations[j][2]);
   }
   return 0;
 }

@@ -6,11 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "osdmra/base/bundled_data.h"
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/normals.h"
-#include "osdmra/mra/filter_bank.h"
-#include "osdmra/mesh/io.h"
 #include "osdmra/mra/truncation.h"
 
 namespace viewer {
@@ -47,44 +44,14 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   };
   auto a = std::make_shared<Analysis>();
   a->request = request;
-  report("reading", 0);
-  osdmra::TriMesh mesh;
-  if (request.remesh) {
-    osdmra::TriMesh input = osdmra::readMesh(request.path);
-    osdmra::removeUnreferencedVertices(input);
-    osdmra::validate(input, request.path);
-    osdmra::Remeshing r;
-    try {
-      r = osdmra::remesh(input, request.remeshOptions, progress);
-    } catch (const osdmra::Error& e) {
-      throw osdmra::Error(request.path + ": " + e.what());
-    }
-    report("measuring the remeshing", 0);
-    osdmra::DistanceOptions o;
-    o.samples = 100000;
-    const osdmra::SurfaceDistance sd = osdmra::surfaceDistance(r.mesh, input, o);
-    a->remeshBaseFaces = static_cast<int>(r.base.F.rows());
-    a->remeshRms = sd.rmsRelative;
-    a->remeshHausdorff = sd.hausdorffRelative;
-    mesh = std::move(r.mesh);
-  } else {
-    mesh = osdmra::readValidMesh(request.path);
-  }
-  report("recovering the subdivision structure", 0);
-  try {
-    a->surface = std::make_unique<osdmra::CanonicalSurface>(osdmra::canonicalSurface(mesh));
-  } catch (const osdmra::Error& e) {
-    throw osdmra::Error(request.path + ": " + e.what());
-  }
-  osdmra::WaveletOptions w;
-  w.rings = request.rings;
-  a->bank = std::make_unique<osdmra::FilterBank>(
-      osdmra::makeFilterBank(a->surface->hierarchy, request.scheme, w, progress));
-  a->d =
-      std::make_unique<osdmra::Decomposition>(osdmra::analyze(*a->bank, a->surface->V, progress));
-  report("preparing extraction", 0);
-  a->approx = std::make_unique<osdmra::Approximator>(*a->bank, *a->d);
-  const osdmra::TriMesh& full = a->approx->fullResolution();
+  osdmra::LoadedSurface input = osdmra::loadSurface(request.path, request.input, progress);
+  a->remeshing = std::move(input.remeshing);
+  osdmra::AnalysisOptions options;
+  options.scheme = request.scheme;
+  options.wavelets.rings = request.rings;
+  a->surface =
+      std::make_unique<osdmra::AnalysedSurface>(input.mesh, options, request.path, progress);
+  const osdmra::TriMesh& full = a->approx().fullResolution();
   a->fullNormals = full.N.rows() == full.V.rows() ? full.N : osdmra::vertexNormals(full);
   a->diagonal = osdmra::boundingBoxDiagonal(full.V);
   report("preparing error measurement", 0);
@@ -92,7 +59,7 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   // The epsilon slider spans the importances that occur (Approximator's default,
   // |d| * ||psi||), so every position of it selects something different.
   a->minImportance = HUGE_VAL;
-  for (const Eigen::VectorXd& level : osdmra::importance(*a->d, a->bank->norms))
+  for (const Eigen::VectorXd& level : osdmra::importance(a->d(), a->bank().norms))
     for (double v : level)
       if (v > 0) {
         a->minImportance = std::min(a->minImportance, v);
@@ -108,7 +75,7 @@ Lod extract(const Analysis& a, const Selection& s) {
   Lod lod;
   const auto t0 = Clock::now();
   lod.approx =
-      s.kind == Selection::Budget ? a.approx->budget(s.budget) : a.approx->keepAbove(s.epsilon);
+      s.kind == Selection::Budget ? a.approx().budget(s.budget) : a.approx().keepAbove(s.epsilon);
   lod.extractSeconds = secondsSince(t0);
   lod.normals = lod.approx.mesh.N.rows() == lod.approx.mesh.V.rows()
                     ? lod.approx.mesh.N
@@ -118,10 +85,7 @@ Lod extract(const Analysis& a, const Selection& s) {
 
 void measureL2(const Analysis& a, Lod& lod) {
   const auto t0 = Clock::now();
-  // Parametric RMS: every base triangle has area 1 (as `osdmra lod` reports it).
-  const double rms =
-      a.approx->l2Error(lod.approx) / std::sqrt(static_cast<double>(a.d->baseFaces.rows()));
-  lod.l2Relative = a.diagonal > 0 ? rms / a.diagonal : 0;
+  lod.l2Relative = a.surface->l2RmsRelative(lod.approx);
   lod.l2Seconds = secondsSince(t0);
 }
 
@@ -136,7 +100,7 @@ void measureVertexErrors(const Analysis& a, Lod& lod) {
 
 DrawMesh referenceMesh(const Analysis& a) {
   DrawMesh m;
-  const osdmra::TriMesh& full = a.approx->fullResolution();
+  const osdmra::TriMesh& full = a.approx().fullResolution();
   appendMesh(m, full.V, a.fullNormals, full.F);
   m.faceLevel.assign(static_cast<std::size_t>(full.F.rows()), static_cast<float>(a.levels()));
   return m;
@@ -155,12 +119,12 @@ DrawMesh lodMesh(const Lod& lod, double errorScale) {
 }
 
 std::vector<int> controlTriangles(const Analysis& a, int level) {
-  const osdmra::Faces& F = a.surface->hierarchy.faces(level);
+  const osdmra::Faces& F = a.surface->hierarchy().faces(level);
   return std::vector<int>(F.data(), F.data() + F.size());
 }
 
 std::vector<double> truncatedControls(const Analysis& a, const osdmra::KeepMask& keep, int level) {
-  const Points c = osdmra::synthesize(*a.bank, osdmra::truncate(*a.d, keep), level);
+  const Points c = osdmra::synthesize(a.bank(), osdmra::truncate(a.d(), keep), level);
   return std::vector<double>(c.data(), c.data() + c.size());
 }
 
@@ -173,7 +137,7 @@ void Session::adopt(std::shared_ptr<const Analysis> a) {
   smoothLevelBuilt_ = -1;
   smoothStatus_.clear();
   smoothOk_ = false;
-  const osdmra::TriMesh& full = analysis_->approx->fullResolution();
+  const osdmra::TriMesh& full = analysis_->approx().fullResolution();
   const Eigen::Vector3d lo = full.V.colwise().minCoeff(), hi = full.V.colwise().maxCoeff();
   renderer_.setBounds(((lo + hi) / 2).cast<float>(), static_cast<float>((hi - lo).norm() / 2));
   renderer_.setMesh(Pane::Reference, referenceMesh(*analysis_));
@@ -201,7 +165,7 @@ void Session::update() {
 
 void Session::updateSmooth() {
   const Analysis& a = *analysis_;
-  if (a.bank->scheme != osdmra::Scheme::Loop) {
+  if (a.bank().scheme != osdmra::Scheme::Loop) {
     smoothOk_ = false;
     smoothStatus_ = "the smooth mode draws Loop limit surfaces; the polyhedral surface is its mesh";
     return;
@@ -212,7 +176,7 @@ void Session::updateSmooth() {
       patches_.reset();
       smoothOk_ = false;
       smoothLevelBuilt_ = level;
-      const osdmra::Hierarchy& h = a.surface->hierarchy;
+      const osdmra::Hierarchy& h = a.surface->hierarchy();
       patches_ = std::make_unique<LoopPatches>(controlTriangles(a, level), h.numVertices(level),
                                                isolation);
       std::string error;
@@ -339,7 +303,7 @@ void DistanceWorker::request(std::shared_ptr<const Analysis> a, osdmra::TriMesh 
     opts.samples = samples;
     osdmra::SurfaceDistance d;
     try {
-      d = osdmra::surfaceDistance(mesh, a->approx->fullResolution(), opts);
+      d = osdmra::surfaceDistance(mesh, a->approx().fullResolution(), opts);
     } catch (const std::exception&) {
       d.rmsRelative = d.hausdorffRelative = NAN;
     }
@@ -352,12 +316,6 @@ void DistanceWorker::request(std::shared_ptr<const Analysis> a, osdmra::TriMesh 
 std::optional<std::pair<long long, osdmra::SurfaceDistance>> DistanceWorker::result() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return result_;
-}
-
-// ---- Data ------------------------------------------------------------------------
-
-std::string defaultMesh() {
-  return osdmra::bundledDataPath();
 }
 
 }  // namespace viewer

@@ -18,10 +18,8 @@
 #include <string>
 #include <thread>
 
-#include "osdmra/mra/approximation.h"
 #include "osdmra/geometry/distance.h"
-#include "osdmra/subdivision/recovery.h"
-#include "osdmra/remesh/remesh.h"
+#include "osdmra/pipeline.h"
 #include "renderer.h"
 #include "smooth.h"
 
@@ -32,35 +30,36 @@ struct AnalysisRequest {
   std::string path;
   osdmra::Scheme scheme = osdmra::Scheme::Loop;
   int rings = 1;
-  /// Bring a mesh without subdivision connectivity to it first (osdmra remesh).
-  bool remesh = false;
-  osdmra::RemeshOptions remeshOptions;
+  /// Remeshing first, for a mesh without subdivision connectivity (osdmra remesh).
+  osdmra::InputOptions input;
   bool operator==(const AnalysisRequest& o) const {
-    return path == o.path && scheme == o.scheme && rings == o.rings && remesh == o.remesh &&
-           (!remesh || (remeshOptions.baseFaces == o.remeshOptions.baseFaces &&
-                        remeshOptions.levels == o.remeshOptions.levels &&
-                        remeshOptions.featureAngle == o.remeshOptions.featureAngle));
+    const osdmra::RemeshOptions &a = input.remeshing, &b = o.input.remeshing;
+    return path == o.path && scheme == o.scheme && rings == o.rings &&
+           input.remesh == o.input.remesh &&
+           (!input.remesh || (a.baseFaces == b.baseFaces && a.levels == b.levels &&
+                              a.featureAngle == b.featureAngle));
   }
 };
 
 /// Everything an analysed surface gives; built once on the worker, then read-only.
 struct Analysis {
   AnalysisRequest request;
-  std::unique_ptr<osdmra::CanonicalSurface> surface;
-  std::unique_ptr<osdmra::FilterBank> bank;
-  std::unique_ptr<osdmra::Decomposition> d;
-  std::unique_ptr<osdmra::Approximator> approx;
+  /// The pipeline's analysis (osdmra/pipeline.h): structure, filter bank,
+  /// decomposition, approximator.
+  std::unique_ptr<osdmra::AnalysedSurface> surface;
+  /// With request.input.remesh: the remeshing and its distance to the input file,
+  /// apart from truncation.
+  std::optional<osdmra::RemeshReport> remeshing;
   std::unique_ptr<osdmra::TriangleBvh> fullBvh;  ///< closest points on the full surface
-  osdmra::Points fullNormals;                    ///< of approx->fullResolution()
+  osdmra::Points fullNormals;                    ///< of approx().fullResolution()
   double diagonal = 0;                           ///< of the full surface's bounding box
   double minImportance = 0, maxImportance = 0;   ///< range of the epsilon slider
   double seconds = 0;
-  /// With request.remesh: the remeshing's base faces and its distance to the input
-  /// file (relative to the input's bounding-box diagonal), apart from truncation.
-  int remeshBaseFaces = 0;
-  double remeshRms = NAN, remeshHausdorff = NAN;
-  int levels() const { return d->levels; }
-  int inputTriangles() const { return surface->hierarchy.numFaces(d->levels); }
+  const osdmra::Approximator& approx() const { return surface->approximator(); }
+  const osdmra::FilterBank& bank() const { return surface->bank(); }
+  const osdmra::Decomposition& d() const { return surface->decomposition(); }
+  int levels() const { return surface->levels(); }
+  int inputTriangles() const { return surface->hierarchy().numFaces(levels()); }
 };
 
 /// Reads, validates and analyses a mesh; throws osdmra::Error with the reason.
@@ -197,9 +196,5 @@ class Session {
   bool smoothOk_ = false;
   std::string smoothStatus_;
 };
-
-/// The bundled mesh: $OSDMRA_DATA, the source tree's data/, then the install
-/// share directory (as the command-line tool finds it). Throws when absent.
-std::string defaultMesh();
 
 }  // namespace viewer

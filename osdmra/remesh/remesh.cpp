@@ -1464,8 +1464,12 @@ void untangle(Remeshing& out, const TriMesh& input, const std::vector<char>& fre
 }  // namespace
 
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
-  if (options.baseFaces < 4) throw Error("remesh: --base-faces must be at least 4");
-  if (options.levels < 0 || options.levels > 8) throw Error("remesh: --levels must be in 0..8");
+  if (options.baseFaces < 4)
+    throw Error("remesh: RemeshOptions::baseFaces must be at least 4, got " +
+                std::to_string(options.baseFaces));
+  if (options.levels < 0 || options.levels > 8)
+    throw Error("remesh: RemeshOptions::levels must be in 0..8, got " +
+                std::to_string(options.levels));
   if (input.F.rows() < 4) throw Error("remesh: the input has fewer than 4 faces");
   Remeshing out;
   Simplifier s(input, options.featureAngle);

@@ -1,0 +1,92 @@
+#include "common.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace osdmra::cli {
+
+double seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+Common common(const Args& args) {
+  Common c;
+  c.json = args.has("json");
+  const bool show = args.has("progress") || (!args.has("quiet") && isatty(STDERR_FILENO));
+  if (show)
+    c.progress = [](const char* stage, double fraction) {
+      std::fprintf(stderr, "\r%-12s %3d%%%s", stage, static_cast<int>(fraction * 100 + 0.5),
+                   fraction >= 1.0 ? "\n" : "");
+      std::fflush(stderr);
+    };
+  return c;
+}
+
+std::set<std::string> flags(std::set<std::string> extra) {
+  static const std::set<std::string> kCommonFlags = {"json", "progress", "quiet", "help", "h"};
+  extra.insert(kCommonFlags.begin(), kCommonFlags.end());
+  return extra;
+}
+
+WaveletOptions waveletOptions(const Args& args) {
+  WaveletOptions w;
+  const std::string kind = args.get("wavelets", "quasi");
+  if (kind == "lazy")
+    w.kind = WaveletKind::Lazy;
+  else if (kind == "quasi")
+    w.kind = WaveletKind::Quasi;
+  else if (kind == "pre")
+    w.kind = WaveletKind::Pre;
+  else
+    throw Error("--wavelets must be lazy, quasi or pre, got '" + kind + "'");
+  w.rings = static_cast<int>(args.integer("rings", kDefaultRings, 0, 8));
+  if (w.kind != WaveletKind::Quasi) w.rings = 0;
+  return w;
+}
+
+DistanceOptions distanceOptions(const Args& args) {
+  DistanceOptions o;
+  o.samples = static_cast<int>(args.integer("samples", 100000, 0, 100000000));
+  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1LL << 62));
+  return o;
+}
+
+RemeshOptions remeshOptions(const Args& args) {
+  RemeshOptions o;
+  o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
+  o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
+  o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
+  return o;
+}
+
+InputOptions inputOptions(const Args& args) {
+  InputOptions o;
+  o.remesh = args.has("remesh");
+  if (o.remesh) o.remeshing = remeshOptions(args);
+  o.distance = distanceOptions(args);
+  return o;
+}
+
+AnalysisOptions analysisOptions(const Args& args) {
+  AnalysisOptions o;
+  o.levels = static_cast<int>(args.integer("levels", -1, 1, 15));
+  o.scheme = parseScheme(args.get("scheme", "loop"));
+  o.wavelets = waveletOptions(args);
+  const std::string how = args.get("importance", "scaled");
+  if (how != "scaled" && how != "plain")
+    throw Error("--importance must be scaled or plain, got '" + how + "'");
+  o.approximation.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
+  o.approximation.saturate = !args.has("exact");
+  return o;
+}
+
+LoadedSurface loadInput(const std::string& in, const Args& args, const Common& opt) {
+  LoadedSurface s = loadSurface(in, inputOptions(args), opt.progress);
+  if (s.remeshing)
+    for (const std::string& w : s.remeshing->warnings)
+      std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), withFlagNames(w).c_str());
+  return s;
+}
+
+}  // namespace osdmra::cli

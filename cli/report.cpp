@@ -1,0 +1,103 @@
+#include "report.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "args.h"
+
+namespace osdmra::cli {
+
+Json topologyJson(const TriMesh& mesh, const Connectivity& c) {
+  const int loops = c.numBoundaryLoops(), components = c.numComponents();
+  const int chi = c.eulerCharacteristic();
+  int vmin = 1 << 30, vmax = 0;
+  for (int v = 0; v < c.numVertices(); ++v) {
+    vmin = std::min(vmin, c.valence(v));
+    vmax = std::max(vmax, c.valence(v));
+  }
+  return Json::object()
+      .add("vertices", static_cast<int>(mesh.V.rows()))
+      .add("faces", static_cast<int>(mesh.F.rows()))
+      .add("edges", c.numEdges())
+      .add("components", components)
+      .add("boundary_loops", loops)
+      .add("euler_characteristic", chi)
+      .add("genus", (2 * components - chi - loops) / 2)
+      .add("valence_min", vmin)
+      .add("valence_max", vmax)
+      .add("bbox_diagonal", boundingBoxDiagonal(mesh.V));
+}
+
+Json remeshJson(const RemeshReport& r) {
+  Json warnings = Json::array();
+  for (const std::string& w : r.warnings) warnings.push(withFlagNames(w));
+  return Json::object()
+      .add("input_vertices", r.inputVertices)
+      .add("input_faces", r.inputFaces)
+      .add("unreferenced_vertices_dropped", r.droppedVertices)
+      .add("feature_edges", r.result.featureEdges)
+      .add("base_vertices", static_cast<int>(r.result.base.V.rows()))
+      .add("base_faces", static_cast<int>(r.result.base.F.rows()))
+      .add("faces", static_cast<int>(r.result.mesh.F.rows()))
+      .add("snapped_samples", r.result.snappedSamples)
+      .add("flipped_triangles", r.result.flippedTriangles)
+      .add("degenerate_triangles", r.result.degenerateTriangles)
+      .add("self_intersections", r.result.selfIntersections)
+      .add("rms_relative", r.distance.rmsRelative)
+      .add("hausdorff_relative", r.distance.hausdorffRelative)
+      .add("seconds", r.seconds)
+      .add("warnings", warnings);
+}
+
+void printRemesh(const std::string& in, const RemeshReport& r) {
+  std::printf(
+      "%s: remeshed %d faces to %d over a base of %d faces (%d feature edges) in %.2f s; "
+      "distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box diagonal; "
+      "%d flipped, %d zero-area triangles, %lld crossing pairs\n",
+      in.c_str(), r.inputFaces, static_cast<int>(r.result.mesh.F.rows()),
+      static_cast<int>(r.result.base.F.rows()), r.result.featureEdges, r.seconds,
+      r.distance.rmsRelative, r.distance.hausdorffRelative, r.result.flippedTriangles,
+      r.result.degenerateTriangles, r.result.selfIntersections);
+}
+
+double maxDetail(const Points& d) {
+  return d.rows() ? d.rowwise().norm().maxCoeff() : 0.0;
+}
+
+Json levelsJson(const Hierarchy& h, const Decomposition& d) {
+  Json levels = Json::array();
+  for (int j = 0; j < d.levels; ++j)
+    levels.push(Json::object()
+                    .add("level", j)
+                    .add("vertices", h.numVertices(j + 1))
+                    .add("coefficients", static_cast<int>(d.details[j].rows()))
+                    .add("max_detail_norm", maxDetail(d.details[j])));
+  return levels;
+}
+
+LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double extractSeconds,
+                    const DistanceOptions& distance) {
+  LodReport r;
+  r.triangles = x.triangles();
+  r.selected = x.selected;
+  r.kept = x.kept;
+  r.total = x.total;
+  r.errors = a.errors(x, distance);
+  r.extractSeconds = extractSeconds;
+  return r;
+}
+
+Json lodJson(const LodReport& r) {
+  return Json::object()
+      .add("triangles", r.triangles)
+      .add("coefficients_selected", r.selected)
+      .add("coefficients_kept", r.kept)
+      .add("coefficients", r.total)
+      .add("l2_error", r.errors.l2)
+      .add("l2_rms_relative", r.errors.l2RmsRelative)
+      .add("rms_relative", r.errors.rmsRelative)
+      .add("hausdorff_relative", r.errors.hausdorffRelative)
+      .add("extract_seconds", r.extractSeconds);
+}
+
+}  // namespace osdmra::cli

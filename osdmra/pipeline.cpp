@@ -1,0 +1,226 @@
+#include "osdmra/pipeline.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/io.h"
+
+namespace osdmra {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+void report(const Progress& progress, const char* stage, double fraction) {
+  if (progress) progress(stage, fraction);
+}
+
+// Runs `f`, prefixing the message of any Error with `source` (when there is one).
+template <class F>
+auto naming(const std::string& source, F&& f) -> decltype(f()) {
+  if (source.empty()) return f();
+  try {
+    return f();
+  } catch (const Error& e) {
+    throw Error(source + ": " + e.what());
+  }
+}
+
+std::vector<std::string> remeshWarnings(const RemeshReport& r) {
+  std::vector<std::string> out;
+  const Remeshing& x = r.result;
+  if (x.flippedTriangles + x.degenerateTriangles > 0 || x.selfIntersections > 0)
+    out.push_back(std::to_string(x.flippedTriangles) + " flipped, " +
+                  std::to_string(x.degenerateTriangles) + " zero-area triangles and " +
+                  std::to_string(x.selfIntersections) +
+                  " crossing pairs are left; another RemeshOptions::baseFaces or "
+                  "RemeshOptions::levels may avoid them");
+  const int baseFaces = static_cast<int>(x.base.F.rows());
+  if (baseFaces > r.requestedBaseFaces)
+    out.push_back("the base has " + std::to_string(baseFaces) + " faces, more than the " +
+                  std::to_string(r.requestedBaseFaces) +
+                  " asked for: no other vertex could go without changing the topology or "
+                  "flattening the tip of a protrusion");
+  if (r.distance.hausdorffRelative > kFarRemeshing) {
+    char buf[360];
+    std::snprintf(buf, sizeof buf,
+                  "the remeshed surface is %.2f%% of the bounding-box diagonal from the input "
+                  "at its farthest (over %.0f%%): raise RemeshOptions::levels for finer "
+                  "sampling, or RemeshOptions::baseFaces if thin or protruding parts of the "
+                  "input are missed",
+                  100 * r.distance.hausdorffRelative, 100 * kFarRemeshing);
+    out.push_back(buf);
+  }
+  return out;
+}
+
+}  // namespace
+
+// ---- Input -------------------------------------------------------------------------
+
+RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
+                            const InputOptions& options, const Progress& progress) {
+  RemeshReport r;
+  r.inputVertices = static_cast<int>(input.V.rows());
+  r.inputFaces = static_cast<int>(input.F.rows());
+  r.requestedBaseFaces = options.remeshing.baseFaces;
+  const auto t0 = Clock::now();
+  r.result = naming(source, [&] { return remesh(input, options.remeshing, progress); });
+  r.seconds = secondsSince(t0);
+  report(progress, "measuring the remeshing", 0);
+  r.distance = surfaceDistance(r.result.mesh, input, options.distance);
+  r.warnings = remeshWarnings(r);
+  return r;
+}
+
+LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
+                          const Progress& progress) {
+  const auto t0 = Clock::now();
+  LoadedSurface s;
+  s.source = path;
+  report(progress, "reading", 0);
+  if (!options.remesh) {
+    s.mesh = readValidMesh(path);
+  } else {
+    TriMesh input = readMesh(path);
+    const int dropped = removeUnreferencedVertices(input);
+    validate(input, path);
+    s.remeshing = remeshMeasured(input, path, options, progress);
+    s.remeshing->droppedVertices = dropped;
+    s.mesh = s.remeshing->result.mesh;
+  }
+  s.seconds = secondsSince(t0);
+  return s;
+}
+
+// ---- Analysis ----------------------------------------------------------------------
+
+struct AnalysedSurface::State {
+  // Exactly one of the two: a recovered mesh, or a stored decomposition's hierarchy.
+  std::optional<CanonicalSurface> surface;
+  std::optional<Hierarchy> hierarchy;
+  FilterBank bank;
+  Decomposition d;
+  std::unique_ptr<Approximator> approximator;
+  AnalysisTimes times;
+  const Hierarchy& h() const { return surface ? surface->hierarchy : *hierarchy; }
+};
+
+AnalysedSurface::AnalysedSurface(const TriMesh& mesh, const AnalysisOptions& options,
+                                 const std::string& source, const Progress& progress)
+    : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  auto t = Clock::now();
+  report(progress, "recovering the subdivision structure", 0);
+  s.surface = naming(source, [&] { return canonicalSurface(mesh, options.levels); });
+  s.times.recover = secondsSince(t);
+  t = Clock::now();
+  s.bank = makeFilterBank(s.surface->hierarchy, options.scheme, options.wavelets, progress);
+  s.times.precompute = secondsSince(t);
+  t = Clock::now();
+  s.d = analyze(s.bank, s.surface->V, progress);
+  s.d.inputOrder = s.surface->inputOrder;
+  s.d.inputFaces = s.surface->inputFaces;
+  s.times.analysis = secondsSince(t);
+  if (options.approximator) {
+    t = Clock::now();
+    report(progress, "preparing extraction", 0);
+    s.approximator = std::make_unique<Approximator>(s.bank, s.d, options.approximation);
+    s.times.approximator = secondsSince(t);
+  }
+}
+
+AnalysedSurface::AnalysedSurface(Decomposition d, bool approximator, const Progress& progress)
+    : state_(std::make_unique<State>()) {
+  State& s = *state_;
+  auto t = Clock::now();
+  s.hierarchy.emplace(d.baseFaces, static_cast<int>(d.base.rows()), d.levels);
+  s.bank = makeFilterBank(*s.hierarchy, d.scheme, d.wavelets, progress);
+  s.times.precompute = secondsSince(t);
+  s.d = std::move(d);
+  if (approximator) {
+    t = Clock::now();
+    s.approximator = std::make_unique<Approximator>(s.bank, s.d);
+    s.times.approximator = secondsSince(t);
+  }
+}
+
+AnalysedSurface::~AnalysedSurface() = default;
+AnalysedSurface::AnalysedSurface(AnalysedSurface&&) noexcept = default;
+AnalysedSurface& AnalysedSurface::operator=(AnalysedSurface&&) noexcept = default;
+
+const Hierarchy& AnalysedSurface::hierarchy() const {
+  return state_->h();
+}
+const Recovery* AnalysedSurface::recovery() const {
+  return state_->surface ? &state_->surface->recovery : nullptr;
+}
+const Points& AnalysedSurface::canonicalPositions() const {
+  static const Points none;
+  return state_->surface ? state_->surface->V : none;
+}
+const FilterBank& AnalysedSurface::bank() const {
+  return state_->bank;
+}
+const Decomposition& AnalysedSurface::decomposition() const {
+  return state_->d;
+}
+const Approximator& AnalysedSurface::approximator() const {
+  if (!state_->approximator)
+    throw Error("this analysis was made without levels of detail (AnalysisOptions::approximator)");
+  return *state_->approximator;
+}
+void AnalysedSurface::setApproximation(const ApproximationOptions& options) {
+  State& s = *state_;
+  const auto t = Clock::now();
+  s.approximator.reset();
+  s.approximator = std::make_unique<Approximator>(s.bank, s.d, options);
+  s.times.approximator = secondsSince(t);
+}
+
+const AnalysisTimes& AnalysedSurface::times() const {
+  return state_->times;
+}
+
+TriMesh AnalysedSurface::reconstruct(const Decomposition& d, int level,
+                                     const Progress& progress) const {
+  TriMesh mesh;
+  mesh.V = synthesize(state_->bank, d, level, progress);
+  mesh.F = hierarchy().faces(level);
+  if (level == d.levels && !d.inputOrder.empty()) {
+    // Back to the input's own vertex numbering and faces.
+    Points V(mesh.V.rows(), 3);
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) V.row(d.inputOrder[i]) = mesh.V.row(i);
+    mesh.V = std::move(V);
+    if (d.inputFaces.rows()) mesh.F = d.inputFaces;
+  }
+  return mesh;
+}
+
+double AnalysedSurface::l2RmsRelative(const Approximation& a) const {
+  const Approximator& x = approximator();
+  const double diagonal = boundingBoxDiagonal(x.fullResolution().V);
+  // An RMS over the base domain, where every base triangle has area 1.
+  const double rms =
+      x.l2Error(a) / std::sqrt(static_cast<double>(decomposition().baseFaces.rows()));
+  return diagonal > 0 ? rms / diagonal : 0.0;
+}
+
+LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions& distance) const {
+  const Approximator& x = approximator();
+  LodErrors e;
+  e.l2 = x.l2Error(a);
+  const double diagonal = boundingBoxDiagonal(x.fullResolution().V);
+  const double rms = e.l2 / std::sqrt(static_cast<double>(decomposition().baseFaces.rows()));
+  e.l2RmsRelative = rms / diagonal;
+  const SurfaceDistance sd = surfaceDistance(a.mesh, x.fullResolution(), distance);
+  e.rmsRelative = sd.rmsRelative;
+  e.hausdorffRelative = sd.hausdorffRelative;
+  return e;
+}
+
+}  // namespace osdmra

@@ -1,0 +1,159 @@
+// Pipeline: the path every front end takes from a mesh file to levels of detail, and
+// the top layer of osdmra (it uses every layer below; nothing below uses it).
+//
+//   loadSurface      read a mesh (any vertex and face order) and validate it, or,
+//                    with `remesh`, bring any manifold mesh to subdivision
+//                    connectivity (remesh/remesh.h) and measure how far that went;
+//   AnalysedSurface  recover the subdivision structure (subdivision/recovery.h),
+//                    build the filter bank (mra/filter_bank.h), analyse, and hold
+//                    the Approximator (mra/approximation.h).
+//
+// AnalysedSurface owns the whole chain, because its parts refer to each other (the
+// filter bank to the hierarchy, the approximator to the filter bank and the
+// decomposition): they are built together and die together, and the object can be
+// moved freely, as libigl's ARAPData holds the state between precomputation and
+// solve. The command-line tool, the viewer and the benchmarks use only this to go
+// from a file to a decomposition or a level of detail.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "osdmra/base/progress.h"
+#include "osdmra/geometry/distance.h"
+#include "osdmra/mesh/mesh.h"
+#include "osdmra/mra/approximation.h"
+#include "osdmra/mra/decomposition.h"
+#include "osdmra/mra/filter_bank.h"
+#include "osdmra/remesh/remesh.h"
+#include "osdmra/subdivision/recovery.h"
+
+namespace osdmra {
+
+// ---- Input -------------------------------------------------------------------------
+
+struct InputOptions {
+  /// Remesh the input first: any manifold triangle mesh, with or without subdivision
+  /// connectivity (a scan, a model).
+  bool remesh = false;
+  RemeshOptions remeshing;
+  /// How the remeshing's distance to the input is sampled.
+  DistanceOptions distance;
+};
+
+/// A remeshing and what it cost, reported apart from any truncation error.
+struct RemeshReport {
+  int inputVertices = 0, inputFaces = 0;  ///< after dropping unreferenced vertices
+  int droppedVertices = 0;                ///< unreferenced input vertices dropped
+  int requestedBaseFaces = 0;
+  Remeshing result;
+  SurfaceDistance distance;  ///< between result.mesh and the input (the reference)
+  double seconds = 0;        ///< remesh() alone
+  /// What a user should know before relying on the result: defects left, a base
+  /// larger than asked, a result far from the input somewhere. Advice names the
+  /// RemeshOptions fields (front ends map them to their own option names).
+  std::vector<std::string> warnings;
+};
+
+/// The surface a front end works on.
+struct LoadedSurface {
+  std::string source;  ///< the path, which every message about the surface names
+  TriMesh mesh;        ///< validated (manifold, oriented); remeshed with `remesh`
+  std::optional<RemeshReport> remeshing;
+  double seconds = 0;  ///< reading, validation and remeshing
+};
+
+/// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
+/// drops unreferenced vertices, validates and remeshes it. Throws Error naming the
+/// file and what is wrong.
+LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
+                          const Progress& progress = {});
+
+/// A remeshing of a valid mesh, measured (loadSurface's second half). `source` names
+/// the input in messages.
+RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
+                            const InputOptions& options, const Progress& progress = {});
+
+/// How far a remeshing may be from its input before it is worth a warning, as a
+/// fraction of the input's bounding-box diagonal.
+constexpr double kFarRemeshing = 0.01;
+
+// ---- Analysis ----------------------------------------------------------------------
+
+struct AnalysisOptions {
+  /// Subdivision levels J to use; < 0 takes the largest the connectivity has.
+  int levels = -1;
+  Scheme scheme = Scheme::Loop;
+  WaveletOptions wavelets;
+  ApproximationOptions approximation;
+  /// Build the Approximator (every level-of-detail query needs it). Analysis and
+  /// synthesis alone do not, and skip its cost (limit stencils, sorting).
+  bool approximator = true;
+};
+
+/// Seconds spent in each stage of AnalysedSurface's construction.
+struct AnalysisTimes {
+  double recover = 0, precompute = 0, analysis = 0, approximator = 0;
+  double total() const { return recover + precompute + analysis + approximator; }
+};
+
+/// The errors of a level of detail against the full-resolution surface, relative to
+/// its bounding-box diagonal where so named.
+struct LodErrors {
+  double l2 = 0;                 ///< exact parametric L2 (Approximator::l2Error)
+  double l2RmsRelative = 0;      ///< the same as an RMS over the base domain
+  double rmsRelative = 0;        ///< sampled symmetric RMS distance
+  double hausdorffRelative = 0;  ///< sampled symmetric Hausdorff distance
+};
+
+class AnalysedSurface {
+ public:
+  /// Recovers the structure of a valid mesh (in any vertex and face order), builds the
+  /// filter bank, analyses the mesh and, with options.approximator, prepares levels of
+  /// detail. Errors are prefixed with `source` (a file name) when it is not empty.
+  AnalysedSurface(const TriMesh& mesh, const AnalysisOptions& options = {},
+                  const std::string& source = "", const Progress& progress = {});
+  /// A stored decomposition (a .mra file): the hierarchy over its base and the filter
+  /// bank of its scheme and wavelets. There is no recovery; levels of detail need
+  /// `approximator`.
+  explicit AnalysedSurface(Decomposition d, bool approximator = false,
+                           const Progress& progress = {});
+  ~AnalysedSurface();
+  AnalysedSurface(AnalysedSurface&&) noexcept;
+  AnalysedSurface& operator=(AnalysedSurface&&) noexcept;
+
+  const Hierarchy& hierarchy() const;
+  /// What recovery found (levels, base, why it stopped); null for a stored
+  /// decomposition.
+  const Recovery* recovery() const;
+  /// The input's positions in canonical order (empty for a stored decomposition).
+  const Points& canonicalPositions() const;
+  const FilterBank& bank() const;
+  const Decomposition& decomposition() const;
+  /// The approximator; throws Error when it was not built.
+  const Approximator& approximator() const;
+  /// Builds the approximator again with other options (ranking, saturation), without
+  /// analysing again.
+  void setApproximation(const ApproximationOptions& options);
+  const AnalysisTimes& times() const;
+  int levels() const { return decomposition().levels; }
+
+  /// The surface of `d` (this decomposition or a truncation of it) at `level`,
+  /// as a mesh: canonical order below J; at J, the input's own vertex order and
+  /// faces when it had them.
+  TriMesh reconstruct(const Decomposition& d, int level, const Progress& progress = {}) const;
+
+  /// The parametric RMS of a level of detail's error relative to the diagonal of the
+  /// full-resolution surface (one synthesis; no sampling).
+  double l2RmsRelative(const Approximation& a) const;
+  /// Every error of a level of detail, sampled ones included (surfaceDistance).
+  LodErrors errors(const Approximation& a, const DistanceOptions& distance = {}) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace osdmra
