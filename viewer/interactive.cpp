@@ -43,17 +43,9 @@ struct Ui {
   double frameSeconds = 0;  // CPU time of the last frame's update and draw calls
 };
 
-void panel(Ui& ui, Session& s, AnalysisWorker& worker, DistanceWorker& distance, float width,
-           float height) {
-  ImGui::SetNextWindowPos(ImVec2(0, 0));
-  ImGui::SetNextWindowSize(ImVec2(width, height));
-  ImGui::Begin("osdmra", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
-                   ImGuiWindowFlags_NoTitleBar);
-  ImGui::TextUnformatted("osdmra-viewer");
-  ImGui::Separator();
-
-  // Analysis: a change of any of these starts a new one on the worker thread.
+// The mesh, scheme and rings: a change of any of these starts a new analysis on the
+// worker thread, whose progress or error shows below them.
+void analysisSection(Ui& ui, AnalysisWorker& worker) {
   bool reanalyse =
       ImGui::InputText("mesh", ui.path, sizeof ui.path, ImGuiInputTextFlags_EnterReturnsTrue);
   int scheme = ui.request.scheme == osdmra::Scheme::Loop ? 0 : 1;
@@ -76,24 +68,26 @@ void panel(Ui& ui, Session& s, AnalysisWorker& worker, DistanceWorker& distance,
     ImGui::TextWrapped("%s", worker.error().c_str());
     ImGui::PopStyleColor();
   }
-  const auto& a = s.analysis();
-  if (!a) {
-    ImGui::End();
-    return;
-  }
+}
+
+// What the shown analysis is, and its remeshing.
+void analysisSummary(const Analysis& a) {
   ImGui::TextWrapped("%s: %s, %s, rings %d, analysed in %.2f s",
-                     a->request.path.substr(a->request.path.find_last_of('/') + 1).c_str(),
-                     osdmra::describe(*a->surface->recovery()).c_str(),
-                     a->bank().scheme == osdmra::Scheme::Loop ? "Loop" : "polyhedral",
-                     a->bank().wavelets.rings, a->seconds);
-  if (a->remeshing)
+                     a.request.path.substr(a.request.path.find_last_of('/') + 1).c_str(),
+                     osdmra::describe(*a.surface->recovery()).c_str(),
+                     a.bank().scheme == osdmra::Scheme::Loop ? "Loop" : "polyhedral",
+                     a.bank().wavelets.rings, a.seconds);
+  if (a.remeshing)
     ImGui::TextWrapped(
         "remeshed over %d base faces; distance to the file: RMS %.2g, Hausdorff "
         "%.2g of its diagonal",
-        static_cast<int>(a->remeshing->result.base.F.rows()), a->remeshing->distance.rmsRelative,
-        a->remeshing->distance.hausdorffRelative);
+        static_cast<int>(a.remeshing->result.base.F.rows()), a.remeshing->distance.rmsRelative,
+        a.remeshing->distance.hausdorffRelative);
+}
 
-  // Level of detail: either slider re-extracts as it moves.
+// Level of detail: either slider re-extracts as it moves; errors on demand.
+void lodSection(Ui& ui, Session& s, const std::shared_ptr<const Analysis>& a,
+                DistanceWorker& distance) {
   ImGui::Separator();
   ImGui::TextUnformatted("Level of detail");
   int kind = s.selection.kind;
@@ -145,8 +139,9 @@ void panel(Ui& ui, Session& s, AnalysisWorker& worker, DistanceWorker& distance,
     else
       ImGui::TextDisabled("sampled RMS, Hausdorff: not measured");
   }
+}
 
-  // Display.
+void displaySection(Ui& ui, Session& s) {
   ImGui::Separator();
   ImGui::TextUnformatted("Display");
   ImGui::Checkbox("split view", &ui.draw.split);
@@ -175,21 +170,40 @@ void panel(Ui& ui, Session& s, AnalysisWorker& worker, DistanceWorker& distance,
   }
   if (ImGui::Button("save PNG (P)")) ui.saveRequested = true;
   ImGui::TextDisabled("frame %.0f ms", ui.frameSeconds * 1e3);
+}
 
-  // Smooth mode.
+void smoothSection(Ui& ui, Session& s, const Analysis& a) {
   ImGui::Separator();
   ImGui::Checkbox("smooth (Loop limit patches)", &s.smooth);
   if (s.smooth) {
     float tess = ui.draw.tessLevel;
     if (ImGui::SliderFloat("tessellation", &tess, 1, 32, "%.0f"))
       ui.draw.tessLevel = std::round(tess);
-    int level = s.smoothLevel < 0 ? a->levels() : s.smoothLevel;
-    if (ImGui::SliderInt("control level", &level, 0, a->levels())) s.smoothLevel = level;
+    int level = s.smoothLevel < 0 ? a.levels() : s.smoothLevel;
+    if (ImGui::SliderInt("control level", &level, 0, a.levels())) s.smoothLevel = level;
     if (!s.smoothStatus().empty()) {
       if (!s.smoothReady()) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.45f, 0.4f, 1));
       ImGui::TextWrapped("%s", s.smoothStatus().c_str());
       if (!s.smoothReady()) ImGui::PopStyleColor();
     }
+  }
+}
+
+void panel(Ui& ui, Session& s, AnalysisWorker& worker, DistanceWorker& distance, float width,
+           float height) {
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin("osdmra", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_NoTitleBar);
+  ImGui::TextUnformatted("osdmra-viewer");
+  ImGui::Separator();
+  analysisSection(ui, worker);
+  if (const auto& a = s.analysis()) {
+    analysisSummary(*a);
+    lodSection(ui, s, a, distance);
+    displaySection(ui, s);
+    smoothSection(ui, s, *a);
   }
   if (!ui.message.empty()) {
     ImGui::Separator();
