@@ -71,8 +71,7 @@ int cmdAnalyze(const Argv& argv) {
     return 0;
   }
   const AnalysisTimes& t = a.times();
-  Json j = Json::object();
-  if (s.remeshing) j.add("remesh", remeshJson(*s.remeshing));
+  Json j = startJson(s);
   std::cout << j.add("command", "analyze")
                    .add("input", in)
                    .add("output", out)

@@ -112,8 +112,7 @@ int cmdLod(const Argv& argv) {
   writeMesh(out, x.mesh);
   const LodReport r = lodReport(a, x, tExtract, distanceOptions(args));
   if (opt.json) {
-    Json j = Json::object();
-    if (s.remeshing) j.add("remesh", remeshJson(*s.remeshing));
+    Json j = startJson(s);
     std::cout << j.add("command", "lod")
                      .add("input", in)
                      .add("output", out)
@@ -158,8 +157,7 @@ int cmdSweep(const Argv& argv) {
     plotSweep(csv, plot, std::filesystem::path(in).filename().string(),
               schemeName(a.bank().scheme));
   if (opt.json) {
-    Json j = Json::object();
-    if (s.remeshing) j.add("remesh", remeshJson(*s.remeshing));
+    Json j = startJson(s);
     std::cout << j.add("command", "sweep")
                      .add("input", in)
                      .add("csv", csv)
@@ -329,8 +327,7 @@ int cmdDemo(const Argv& argv) {
   const std::string table = (setup.outDir / "errors.md").string();
   writeTextFile(table, md.str());
   if (opt.json) {
-    Json j = Json::object();
-    if (s.remeshing) j.add("remesh", remeshJson(*s.remeshing));
+    Json j = startJson(s);
     std::cout << j.add("command", "demo")
                      .add("input", setup.in)
                      .add("out", setup.outDir.string())

@@ -60,6 +60,12 @@ void printRemesh(const std::string& in, const RemeshReport& r) {
       r.result.degenerateTriangles, r.result.selfIntersections);
 }
 
+Json startJson(const LoadedSurface& s) {
+  Json j = Json::object();
+  if (s.remeshing) j.add("remesh", remeshJson(*s.remeshing));
+  return j;
+}
+
 double maxDetail(const Points& d) {
   return d.rows() ? d.rowwise().norm().maxCoeff() : 0.0;
 }

@@ -17,6 +17,9 @@ Json topologyJson(const TriMesh& mesh, const Connectivity& c);
 Json remeshJson(const RemeshReport& r);
 void printRemesh(const std::string& in, const RemeshReport& r);
 
+/// A command's JSON object, starting with its input's remeshing when there was one.
+Json startJson(const LoadedSurface& s);
+
 /// Per level: vertices, coefficients and the largest |d^j_m|.
 Json levelsJson(const Hierarchy& h, const Decomposition& d);
 /// Largest |d^j_m| of a level (0 for a level without coefficients).
