@@ -29,6 +29,26 @@ file(REMOVE_RECURSE "${WORK_DIR}")
 
 run(${CMAKE_COMMAND} --install "${OSDMRA_BUILD_DIR}" --config "${BUILD_TYPE}" --prefix "${prefix}")
 
+# The public API only: the top layer's header is there, and no detail/ folder (their
+# headers are internal helpers, README, Layout).
+set(headers "${prefix}/include/osdmra")
+if(NOT EXISTS "${headers}/pipeline.h")
+  message(FATAL_ERROR "consumer_test.cmake: ${headers}/pipeline.h is not installed; "
+    "the top layer must be part of the installed API")
+endif()
+file(GLOB_RECURSE installed LIST_DIRECTORIES true RELATIVE "${headers}" "${headers}/*")
+set(leaked "")
+foreach(entry IN LISTS installed)
+  if(entry MATCHES "(^|/)detail(/|$)")
+    list(APPEND leaked "${entry}")
+  endif()
+endforeach()
+if(leaked)
+  string(REPLACE ";" ", " leaked "${leaked}")
+  message(FATAL_ERROR "consumer_test.cmake: detail/ headers are internal and must not be "
+    "installed, but ${headers} has: ${leaked}")
+endif()
+
 set(configure -S "${CONSUMER_SOURCE_DIR}" -B "${build}"
   "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}"
   "-DCMAKE_PREFIX_PATH=${prefix}"

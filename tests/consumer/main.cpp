@@ -1,7 +1,11 @@
 // Uses the installed osdmra: refines an octahedron twice and checks the sizes and
-// the refinement matrices (which come from OpenSubdiv, so its linkage is exercised).
+// the refinement matrices (which come from OpenSubdiv, so its linkage is exercised),
+// then takes a surface through the top layer, pipeline.h, whose header includes
+// every layer's (so each must be installed and need no detail/ header).
 #include <osdmra/base/error.h>
+#include <osdmra/pipeline.h>
 #include <osdmra/subdivision/hierarchy.h>
+#include <osdmra/subdivision/shapes.h>
 
 #include <cmath>
 #include <cstdio>
@@ -30,6 +34,17 @@ int main() {
         std::fprintf(stderr, "row %d of P^2 sums to %g, expected 1\n", r, P.row(r).sum());
         return 1;
       }
+    // Analysis and synthesis give the surface back.
+    const osdmra::TriMesh surface =
+        osdmra::subdivide(osdmra::shapes::octahedron(), 2, osdmra::Scheme::Loop, 0.05);
+    const osdmra::AnalysedSurface analysed(surface);
+    const osdmra::TriMesh back = analysed.reconstruct(analysed.decomposition(), 2);
+    const double error = (back.V - surface.V).cwiseAbs().maxCoeff();
+    if (analysed.levels() != 2 || !(error < 1e-12 * osdmra::boundingBoxDiagonal(surface.V))) {
+      std::fprintf(stderr, "pipeline: %d levels, reconstruction error %g\n", analysed.levels(),
+                   error);
+      return 1;
+    }
   } catch (const osdmra::Error& e) {
     std::fprintf(stderr, "osdmra::Error: %s\n", e.what());
     return 1;

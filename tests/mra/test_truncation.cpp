@@ -3,8 +3,8 @@
 
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mra/gram.h"
-#include "osdmra/subdivision/shapes.h"
 #include "osdmra/mra/truncation.h"
+#include "osdmra/subdivision/shapes.h"
 
 using namespace osdmra;
 

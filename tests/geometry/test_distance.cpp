@@ -12,11 +12,13 @@
 #include <utility>
 #include <vector>
 
-#include "osdmra/geometry/distance.h"
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/mesh.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 using Vec3 = Eigen::Vector3d;
 
 namespace {
@@ -28,16 +30,6 @@ double uniform(std::mt19937_64& rng, double lo, double hi) {
 
 Vec3 randomPoint(std::mt19937_64& rng, double lo, double hi) {
   return {uniform(rng, lo, hi), uniform(rng, lo, hi), uniform(rng, lo, hi)};
-}
-
-/// Unit square [0, 1]^2 at height z, two triangles.
-TriMesh square(double z) {
-  TriMesh m;
-  m.V.resize(4, 3);
-  m.V << 0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z;
-  m.F.resize(2, 3);
-  m.F << 0, 1, 2, 0, 2, 3;
-  return m;
 }
 
 /// Octahedron refined `levels` times by 1-to-4 midpoint splits, every vertex pushed
@@ -228,7 +220,7 @@ TEST(DistanceBvh, MatchesBruteForce) {
 }
 
 TEST(DistanceBvh, SingleTriangleAndCoincidentTriangles) {
-  TriMesh one = square(0.0);
+  TriMesh one = unitSquare(0.0);
   one.F.conservativeResize(1, 3);
   const TriangleBvh small(one);
   EXPECT_EQ(small.numNodes(), 1);
@@ -248,7 +240,7 @@ TEST(DistanceBvh, SingleTriangleAndCoincidentTriangles) {
 }
 
 TEST(DistanceBvh, FarAndNonFiniteQueries) {
-  const TriangleBvh bvh(square(0.0));
+  const TriangleBvh bvh(unitSquare(0.0));
   // Squared distances overflow: the answer is still a point of some face.
   const ClosestPoint far = bvh.closestPoint({1e200, -1e200, 3e200});
   EXPECT_EQ(far.distance, std::numeric_limits<double>::infinity());
@@ -260,17 +252,17 @@ TEST(DistanceBvh, FarAndNonFiniteQueries) {
 
 TEST(DistanceBvh, RejectsBadMeshes) {
   EXPECT_THROW(TriangleBvh{TriMesh{}}, Error);
-  TriMesh m = square(0.0);
+  TriMesh m = unitSquare(0.0);
   m.F(1, 2) = 4;
   EXPECT_THROW(TriangleBvh{m}, Error);
-  m = square(0.0);
+  m = unitSquare(0.0);
   m.V(2, 1) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(TriangleBvh{m}, Error);
   EXPECT_THROW(samplePoints(m, 10, 1), Error);
-  EXPECT_THROW(surfaceDistance(square(0.0), m), Error);
-  EXPECT_THROW(surfaceDistance(TriMesh{}, square(0.0)), Error);
-  EXPECT_THROW(surfaceDistance(square(0.0), square(0.0), {0, 1, false}), Error);
-  EXPECT_THROW(samplePoints(square(0.0), -1, 1), Error);
+  EXPECT_THROW(surfaceDistance(unitSquare(0.0), m), Error);
+  EXPECT_THROW(surfaceDistance(TriMesh{}, unitSquare(0.0)), Error);
+  EXPECT_THROW(surfaceDistance(unitSquare(0.0), unitSquare(0.0), {0, 1, false}), Error);
+  EXPECT_THROW(samplePoints(unitSquare(0.0), -1, 1), Error);
 }
 
 TEST(DistanceSampling, AreaUniformAndOnTheSurface) {
@@ -311,7 +303,7 @@ TEST(DistanceSampling, Deterministic) {
 }
 
 TEST(DistanceSurface, ParallelSquaresExactly) {
-  const TriMesh a = square(0.0), b = square(0.25);
+  const TriMesh a = unitSquare(0.0), b = unitSquare(0.25);
   const SurfaceDistance d = surfaceDistance(a, b, {5000, 1, true});
   // Every sample of either square is exactly 0.25 from the other: the sample keeps
   // its z exactly, and the in-plane rounding (~1e-17) vanishes next to 0.25^2.
@@ -386,7 +378,7 @@ TEST(DistanceSurface, DeterministicAndSeedDependent) {
 
 TEST(DistanceSurface, DegenerateTrianglesStayFinite) {
   // A square plus a collinear face, a point face and a sliver.
-  TriMesh a = square(0.0);
+  TriMesh a = unitSquare(0.0);
   a.V.conservativeResize(7, 3);
   a.V.row(4) << 2, 0, 0;
   a.V.row(5) << 0.5, 0.5, 1e-300;
@@ -395,7 +387,7 @@ TEST(DistanceSurface, DegenerateTrianglesStayFinite) {
   a.F.row(2) << 0, 1, 4;  // collinear
   a.F.row(3) << 5, 5, 5;  // a point
   a.F.row(4) << 0, 2, 6;  // a sliver
-  const SurfaceDistance d = surfaceDistance(a, square(0.5), {2000, 1, true});
+  const SurfaceDistance d = surfaceDistance(a, unitSquare(0.5), {2000, 1, true});
   for (double x : {d.rms, d.hausdorff, d.meanAB, d.maxAB, d.meanBA, d.maxBA, d.rmsRelative,
                    d.hausdorffRelative})
     EXPECT_TRUE(std::isfinite(x));
@@ -410,7 +402,7 @@ TEST(DistanceSurface, DegenerateTrianglesStayFinite) {
   flat.V << 0, 0, 0, 1, 0, 0, 2, 0, 0;
   flat.F.resize(1, 3);
   flat.F << 0, 1, 2;
-  const SurfaceDistance e = surfaceDistance(flat, square(0.5), {100, 1, false});
+  const SurfaceDistance e = surfaceDistance(flat, unitSquare(0.5), {100, 1, false});
   EXPECT_GE(e.meanAB, 0.5);
   EXPECT_LE(e.maxAB, std::sqrt(1.25) + 1e-15);
   EXPECT_TRUE(std::isfinite(e.rms));
@@ -419,7 +411,7 @@ TEST(DistanceSurface, DegenerateTrianglesStayFinite) {
   // for a zero distance, never NaN.
   TriMesh point = flat;
   point.V.setConstant(0.5);
-  const SurfaceDistance far = surfaceDistance(square(0.0), point, {100, 1, true});
+  const SurfaceDistance far = surfaceDistance(unitSquare(0.0), point, {100, 1, true});
   EXPECT_EQ(far.diagonal, 0.0);
   EXPECT_EQ(far.hausdorffRelative, std::numeric_limits<double>::infinity());
   const SurfaceDistance self = surfaceDistance(point, point, {100, 1, true});

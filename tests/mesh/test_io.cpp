@@ -2,14 +2,10 @@
 // a message naming the file and the line or element, and a mutation fuzz loop.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <functional>
-#include <initializer_list>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -20,82 +16,18 @@
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/mesh/mesh.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device entropy;
-    path_ = fs::temp_directory_path() /
-            ("osdmra_test_io_" + std::to_string(entropy()) + "_" + std::to_string(counter++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::string write(const std::string& name, std::string_view bytes) const {
-    const std::string p = file(name);
-    std::ofstream out(p, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return p;
-  }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path_))
-      names.push_back(e.path().filename().string());
-    return names;
-  }
-
- private:
-  fs::path path_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-/// The Error message `f` throws, or "" and a test failure if it does not throw.
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an osdmra::Error";
-  return "";
-}
-
-void expectContains(const std::string& message, std::initializer_list<std::string_view> parts) {
-  for (std::string_view part : parts)
-    EXPECT_NE(message.find(part), std::string::npos)
-        << "message \"" << message << "\" lacks \"" << part << "\"";
-}
 
 /// Reads `content` from a file called `name` and returns the error message.
 std::string readError(const TempDir& dir, const std::string& name, std::string_view content) {
   const std::string path = dir.write(name, content);
   return errorOf([&] { readMesh(path); });
-}
-
-TriMesh tetrahedron() {
-  TriMesh m;
-  m.V.resize(4, 3);
-  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
-  m.F.resize(4, 3);
-  m.F << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
-  return m;
 }
 
 /// A closed octahedron whose coordinates are awkward doubles (thirds, tiny, huge,
@@ -200,16 +132,16 @@ TEST(MeshIO, NormalsRoundTrip) {
 
 TEST(MeshIO, WritesTheDocumentedSyntax) {
   TempDir dir;
-  TriMesh mesh = tetrahedron();
+  TriMesh mesh = cornerTetrahedron();
   mesh.V(1, 0) = 0.1;
   writeMesh(dir.file("t.obj"), mesh);
-  const std::string obj = slurp(dir.file("t.obj"));
+  const std::string obj = readFile(dir.file("t.obj"));
   expectContains(obj, {"v 0.1 0 0\n", "f 1 3 2\n"});
   mesh.N = Points::Ones(4, 3);
   writeMesh(dir.file("n.obj"), mesh);
-  expectContains(slurp(dir.file("n.obj")), {"vn 1 1 1\n", "f 1//1 3//3 2//2\n"});
+  expectContains(readFile(dir.file("n.obj")), {"vn 1 1 1\n", "f 1//1 3//3 2//2\n"});
   writeMesh(dir.file("t.ply"), mesh);
-  const std::string ply = slurp(dir.file("t.ply"));
+  const std::string ply = readFile(dir.file("t.ply"));
   expectContains(ply, {"format binary_little_endian 1.0\n", "property double nx\n",
                        "property list uchar int vertex_indices\n"});
   EXPECT_EQ(ply.size(), ply.find("end_header\n") + 11 + 4 * 6 * 8 + 4 * 13);
@@ -218,20 +150,20 @@ TEST(MeshIO, WritesTheDocumentedSyntax) {
 TEST(MeshIO, ExtensionsAreCaseInsensitive) {
   TempDir dir;
   for (const char* name : {"A.OBJ", "b.Off", "c.pLy"}) {
-    writeMesh(dir.file(name), tetrahedron());
+    writeMesh(dir.file(name), cornerTetrahedron());
     EXPECT_EQ(readMesh(dir.file(name)).F.rows(), 4) << name;
   }
   EXPECT_EQ(meshFormatFromPath("x/y.PLY"), MeshFormat::Ply);
   expectContains(errorOf([&] { readMesh(dir.file("mesh.stl")); }),
                  {"mesh.stl", "unknown mesh format", ".obj, .off or .ply"});
-  expectContains(errorOf([&] { writeMesh(dir.file("noext"), tetrahedron()); }),
+  expectContains(errorOf([&] { writeMesh(dir.file("noext"), cornerTetrahedron()); }),
                  {"noext", "no extension"});
 }
 
 TEST(MeshIO, StreamsWork) {
   std::stringstream s;
-  writeMesh(s, MeshFormat::Off, tetrahedron());
-  expectSameMesh(readMesh(s, MeshFormat::Off, "<stream>"), tetrahedron());
+  writeMesh(s, MeshFormat::Off, cornerTetrahedron());
+  expectSameMesh(readMesh(s, MeshFormat::Off, "<stream>"), cornerTetrahedron());
 }
 
 // ---- Atomic writes ----------------------------------------------------------------
@@ -239,24 +171,24 @@ TEST(MeshIO, StreamsWork) {
 TEST(MeshIO, WritesReplaceAtomicallyAndLeaveNoTemporaries) {
   TempDir dir;
   const std::string path = dir.file("m.ply");
-  writeMesh(path, tetrahedron());
+  writeMesh(path, cornerTetrahedron());
   writeMesh(path, awkwardOctahedron());  // replaces
   EXPECT_EQ(readMesh(path).F.rows(), 8);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"m.ply"});
 
   // A mesh the readers would reject is refused; the old file is untouched.
-  const std::string before = slurp(path);
-  TriMesh bad = tetrahedron();
+  const std::string before = readFile(path);
+  TriMesh bad = cornerTetrahedron();
   bad.F(3, 2) = 9;
   expectContains(errorOf([&] { writeMesh(path, bad); }),
                  {"m.ply", "face 3", "index 9", "out of range"});
-  bad = tetrahedron();
+  bad = cornerTetrahedron();
   bad.V(2, 2) = std::numeric_limits<double>::quiet_NaN();
   expectContains(errorOf([&] { writeMesh(path, bad); }), {"m.ply", "vertex 2", "non-finite"});
-  EXPECT_EQ(slurp(path), before);
+  EXPECT_EQ(readFile(path), before);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"m.ply"});
 
-  expectContains(errorOf([&] { writeMesh(dir.file("missing/dir/m.obj"), tetrahedron()); }),
+  expectContains(errorOf([&] { writeMesh(dir.file("missing/dir/m.obj"), cornerTetrahedron()); }),
                  {"missing/dir/m.obj", "cannot create"});
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"m.ply"});
 }
@@ -368,7 +300,7 @@ TEST(OffReader, AcceptsHeaderVariants) {
   for (const char* header : variants) {
     std::istringstream in(std::string(header) + body);
     const TriMesh m = readOff(in, "v.off");
-    expectSameMesh(m, tetrahedron());
+    expectSameMesh(m, cornerTetrahedron());
   }
 }
 
@@ -427,7 +359,7 @@ TEST(PlyReader, AsciiWithExtraPropertiesAndElements) {
       "1 0 0 0 0 2\r\n2 1 2 9 9 0 0 2\r\n3 0 0 1 0 2\r\n4 0 1 1 0 +1 2\r\n"
       "7 3 0 2 1 0\r\n7 3 0 1 3 0\r\n7 3 0 3 2 6 0 0 0 0 0 0\r\n7 3 1 2 3 0\r\n"
       "2 0 1\r\n");
-  expectSameMesh(readPly(in, "a.ply"), tetrahedron());
+  expectSameMesh(readPly(in, "a.ply"), cornerTetrahedron());
 }
 
 TEST(PlyReader, BinaryBigEndianWithMixedTypes) {
@@ -460,7 +392,7 @@ TEST(PlyReader, BinaryBigEndianWithMixedTypes) {
     putBE(s, std::uint32_t{42});
   }
   std::istringstream in(s);
-  TriMesh expected = tetrahedron();
+  TriMesh expected = cornerTetrahedron();
   expected.N = Points::Constant(4, 3, 0.5);
   expectSameMesh(readPly(in, "be.ply"), expected);
 }
@@ -483,13 +415,13 @@ TEST(PlyReader, BinaryLittleEndianWithSmallIndexTypes) {
     for (int i : f) putLE(s, static_cast<std::int16_t>(i));
   }
   std::istringstream in(s);
-  expectSameMesh(readPly(in, "le.ply"), tetrahedron());
+  expectSameMesh(readPly(in, "le.ply"), cornerTetrahedron());
 }
 
 TEST(PlyReader, RejectsWithFileAndElement) {
   TempDir dir;
   std::ostringstream bin;
-  writePly(bin, tetrahedron());
+  writePly(bin, cornerTetrahedron());
   const std::string valid = bin.str();
   const std::size_t body = valid.find("end_header\n") + 11;
 

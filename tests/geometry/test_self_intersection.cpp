@@ -7,8 +7,8 @@
 #include <random>
 #include <vector>
 
-#include "osdmra/geometry/distance.h"
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/subdivision/shapes.h"
 

@@ -5,23 +5,19 @@
 
 #include <Eigen/Geometry>
 
-#include "osdmra/subdivision/shapes.h"
 #include "osdmra/geometry/surface_walk.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
 
 // The unit cube, each face split in two (outward-facing), refined linearly: many
 // small faces on each side, flat, with 90 degree edges.
 TriMesh cube(int levels) {
-  TriMesh c;
-  c.V.resize(8, 3);
-  for (int i = 0; i < 8; ++i) c.V.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
-  c.F.resize(12, 3);
-  c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6,
-      1, 3, 5, 3, 7, 5;
-  return subdivide(c, levels, Scheme::Linear);
+  return subdivide(unitCube(), levels, Scheme::Linear);
 }
 
 // The point of `mesh` at position x (a face containing it).

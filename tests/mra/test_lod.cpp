@@ -21,14 +21,15 @@
 #include <unordered_set>
 #include <vector>
 
-#include "osdmra/mesh/connectivity.h"
 #include "osdmra/base/error.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mra/lod.h"
-#include "osdmra/subdivision/shapes.h"
 #include "osdmra/mra/truncation.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
 
@@ -68,7 +69,7 @@ struct Shape {
   Points linear;  ///< M^J on the base mesh: linear scheme, no displacement
   std::vector<std::unordered_set<Tri, TriHash>> levelFaces;  ///< rotated faces of M^l
   std::vector<int> birth;  ///< first level at which each M^J vertex exists
-  int euler = 0, loops = 0, components = 0;
+  Topology baseTopology;   ///< which every level of detail keeps
   double totalArea = 0, minBaseArea = 1e300;
   double quantum = 0;  ///< position quantisation for the geometric T-junction check
 
@@ -86,10 +87,7 @@ struct Shape {
     birth.assign(h.numVertices(J), 0);
     for (int l = 1; l <= J; ++l)
       for (int v = h.numVertices(l - 1); v < h.numVertices(l); ++v) birth[v] = l;
-    const Connectivity c(base.F, static_cast<int>(base.V.rows()));
-    euler = c.eulerCharacteristic();
-    loops = c.numBoundaryLoops();
-    components = c.numComponents();
+    baseTopology = topology(base);
     for (int f = 0; f < base.F.rows(); ++f) {
       const double a = area(base.V, base.F(f, 0), base.F(f, 1), base.F(f, 2));
       totalArea += a;
@@ -192,10 +190,7 @@ void checkLod(const Shape& s, const KeepMask& keep, const LodMesh& lod) {
   for (int k = 0; k < nv; ++k) m.V.row(k) = s.linear.row(lod.vertices[k]);
   m.F = lod.compactFaces;
   EXPECT_NO_THROW(validate(m, s.name + " lod"));
-  const Connectivity c(m.F, nv);
-  EXPECT_EQ(c.eulerCharacteristic(), s.euler);
-  EXPECT_EQ(c.numBoundaryLoops(), s.loops);
-  EXPECT_EQ(c.numComponents(), s.components);
+  EXPECT_EQ(topology(m), s.baseTopology);
 
   // Three distinct corners and positive area; the triangles tile the base surface
   // exactly (linear positions lie on the base triangles).

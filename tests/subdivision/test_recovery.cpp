@@ -10,32 +10,12 @@
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/subdivision/recovery.h"
 #include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
-
-// Vertices, faces and the corners within each face in random order.
-TriMesh shuffle(const TriMesh& m, std::uint64_t seed, std::vector<int>* newIndexOf = nullptr) {
-  std::mt19937_64 rng(seed);
-  const int n = static_cast<int>(m.V.rows());
-  std::vector<int> perm(n);
-  for (int i = 0; i < n; ++i) perm[i] = i;
-  std::shuffle(perm.begin(), perm.end(), rng);  // perm[old] = new
-  std::vector<int> order(m.F.rows());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::shuffle(order.begin(), order.end(), rng);
-  TriMesh out;
-  out.V.resize(n, 3);
-  for (int i = 0; i < n; ++i) out.V.row(perm[i]) = m.V.row(i);
-  out.F.resize(m.F.rows(), 3);
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    const int r = static_cast<int>(rng() % 3);
-    for (int c = 0; c < 3; ++c) out.F(f, c) = perm[m.F(order[f], (c + r) % 3)];
-  }
-  if (newIndexOf) *newIndexOf = perm;
-  return out;
-}
 
 TriMesh disjointUnion(const TriMesh& a, const TriMesh& b) {
   TriMesh u;
@@ -52,11 +32,6 @@ std::vector<int> sortedValences(const Faces& F, int n) {
   for (int i = 0; i < n; ++i) v[i] = c.valence(i);
   std::sort(v.begin(), v.end());
   return v;
-}
-
-int genus(const Faces& F, int n) {
-  const Connectivity c(F, n);
-  return (2 * c.numComponents() - c.eulerCharacteristic() - c.numBoundaryLoops()) / 2;
 }
 
 // Flips the interior edge shared by faces f and g; returns false if it cannot.
@@ -101,8 +76,7 @@ TEST(Recovery, ShuffledSubdivisionMeshesAtEveryLevel) {
         EXPECT_EQ(r.numBaseVertices, base.V.rows());
         EXPECT_EQ(sortedValences(r.baseFaces, r.numBaseVertices),
                   sortedValences(base.F, static_cast<int>(base.V.rows())));
-        EXPECT_EQ(genus(r.baseFaces, r.numBaseVertices),
-                  genus(base.F, static_cast<int>(base.V.rows())));
+        EXPECT_EQ(topology(r.baseFaces, r.numBaseVertices), topology(base));
       }
       // The canonical map is a bijection onto level J of the recovered hierarchy, and
       // the faces map onto its faces.

@@ -3,77 +3,42 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <initializer_list>
 #include <limits>
 #include <string>
-#include <string_view>
 
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/mesh.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
 
-TriMesh makeMesh(std::initializer_list<std::array<double, 3>> points,
-                 std::initializer_list<std::array<int, 3>> faces) {
-  TriMesh m;
-  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
-  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  Eigen::Index r = 0;
-  for (const auto& p : points) m.V.row(r++) << p[0], p[1], p[2];
-  r = 0;
-  for (const auto& f : faces) m.F.row(r++) << f[0], f[1], f[2];
-  return m;
-}
-
-/// A closed, consistently (outward) oriented tetrahedron.
-TriMesh tetrahedron() {
-  return makeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
-                  {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
-}
-
-/// A unit square in two triangles: an open disc.
-TriMesh square() {
-  return makeMesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
-}
-
 /// The message validate() throws, or "" (and a test failure) if it accepts.
 std::string rejection(const TriMesh& m, const std::string& source = "mesh.obj") {
-  try {
-    validate(m, source);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "validate accepted an invalid mesh";
-  return "";
-}
-
-void expectContains(const std::string& message, std::initializer_list<std::string_view> parts) {
-  for (std::string_view part : parts)
-    EXPECT_NE(message.find(part), std::string::npos)
-        << "message \"" << message << "\" lacks \"" << part << "\"";
+  return errorOf([&] { validate(m, source); });
 }
 
 }  // namespace
 
 TEST(Validate, AcceptsClosedAndOpenManifolds) {
-  EXPECT_NO_THROW(validate(tetrahedron(), "tet"));
-  EXPECT_NO_THROW(validate(square(), "square"));
-  TriMesh withNormals = square();
+  EXPECT_NO_THROW(validate(cornerTetrahedron(), "tet"));
+  EXPECT_NO_THROW(validate(unitSquare(), "square"));
+  TriMesh withNormals = unitSquare();
   withNormals.N = Points::Zero(4, 3);
   EXPECT_NO_THROW(validate(withNormals, "square"));
 }
 
 TEST(Validate, RejectsEmptyMeshes) {
   expectContains(rejection(TriMesh{}, "empty.off"), {"empty.off: ", "no faces"});
-  TriMesh points = square();
+  TriMesh points = unitSquare();
   points.F.resize(0, 3);
   expectContains(rejection(points, "points.ply"), {"points.ply: ", "no faces", "4 vertices"});
 }
 
 TEST(Validate, RejectsIndexOutOfRange) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.F(2, 1) = 7;
   expectContains(rejection(m), {"mesh.obj: ", "face 2, corner 1", "index 7", "out of range"});
   m.F(2, 1) = -1;
@@ -81,13 +46,13 @@ TEST(Validate, RejectsIndexOutOfRange) {
 }
 
 TEST(Validate, RejectsRepeatedVertex) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.F.row(1) << 0, 3, 3;
   expectContains(rejection(m), {"mesh.obj: ", "face 1 (0, 3, 3)", "vertex 3 twice"});
 }
 
 TEST(Validate, RejectsNonFiniteCoordinates) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.V(2, 1) = std::numeric_limits<double>::quiet_NaN();
   expectContains(rejection(m), {"mesh.obj: ", "vertex 2", "non-finite", "nan"});
   m.V(2, 1) = 0;
@@ -96,14 +61,14 @@ TEST(Validate, RejectsNonFiniteCoordinates) {
 }
 
 TEST(Validate, RejectsIsolatedVertex) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.V.conservativeResize(5, 3);
   m.V.row(4) << 2, 2, 2;
   expectContains(rejection(m), {"mesh.obj: ", "vertex 4", "not used by any face"});
 }
 
 TEST(Validate, RejectsMismatchedNormals) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.N = Points::Zero(3, 3);
   expectContains(rejection(m), {"3 normals for 4 vertices"});
 }
@@ -121,7 +86,7 @@ TEST(Validate, RejectsNonManifoldEdge) {
 }
 
 TEST(Validate, RejectsFlippedFaceAndNamesTheCulprit) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.F.row(3) << 1, 3, 2;  // reversed: disagrees with all three neighbours
   const std::string msg = rejection(m, "tet.obj");
   expectContains(
@@ -129,7 +94,7 @@ TEST(Validate, RejectsFlippedFaceAndNamesTheCulprit) {
 }
 
 TEST(Validate, RejectsInconsistentPairAndNamesBoth) {
-  TriMesh m = square();
+  TriMesh m = unitSquare();
   m.F.row(1) << 0, 3, 2;  // shares edge 0->2 with face 0, same direction
   const std::string msg = rejection(m);
   expectContains(msg, {"face 0 (0, 1, 2)", "face 1 (0, 3, 2)", "edge 2->0"});
@@ -137,7 +102,7 @@ TEST(Validate, RejectsInconsistentPairAndNamesBoth) {
 }
 
 TEST(Validate, RejectsDuplicateFace) {
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.F.conservativeResize(5, 3);
   m.F.row(4) = m.F.row(1);
   expectContains(rejection(m), {"face 4 (0, 1, 3) duplicates face 1 (0, 1, 3)"});
@@ -167,14 +132,14 @@ TEST(Validate, RejectsTwoConesSharingAnApex) {
 
 TEST(Validate, ReportsTheCauseBeforeItsSymptoms) {
   // The flipped face also breaks its vertices' fans; the face must be reported.
-  TriMesh m = tetrahedron();
+  TriMesh m = cornerTetrahedron();
   m.F.row(3) << 1, 3, 2;
   EXPECT_EQ(rejection(m).find("non-manifold"), std::string::npos) << rejection(m);
 }
 
 TEST(BoundingBox, Diagonal) {
   EXPECT_EQ(boundingBoxDiagonal(Points(0, 3)), 0.0);
-  EXPECT_DOUBLE_EQ(boundingBoxDiagonal(tetrahedron().V), std::sqrt(3.0));
+  EXPECT_DOUBLE_EQ(boundingBoxDiagonal(cornerTetrahedron().V), std::sqrt(3.0));
   Points p(2, 3);
   p << -1, 2, 3, 2, 6, 3;
   EXPECT_DOUBLE_EQ(boundingBoxDiagonal(p), 5.0);

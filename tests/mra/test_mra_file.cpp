@@ -1,10 +1,8 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -13,28 +11,25 @@
 #include <vector>
 
 #include "osdmra/base/error.h"
-#include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/mra/mra_file.h"
+#include "osdmra/subdivision/hierarchy.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 namespace fs = std::filesystem;
 
 namespace {
 
 using Bytes = std::string;
 
-Faces octahedronFaces() {
-  Faces F(8, 3);
-  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  return F;
-}
-
 // A decomposition of the octahedron with arbitrary (but exactly representable and
 // awkward) coefficients, optionally with the input-order parts.
 Decomposition makeDecomposition(int levels, bool withOrder, bool withFaces, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> coef(-2.0, 2.0);
-  Hierarchy h(octahedronFaces(), 6, levels);
+  Hierarchy h(shapes::octahedron().F, 6, levels);
   Decomposition d;
   d.scheme = Scheme::Linear;
   d.wavelets.kind = WaveletKind::Pre;
@@ -81,16 +76,7 @@ Decomposition fromBytes(const Bytes& b, const std::string& name = "test.mra") {
 // Message of the Error reading `b` throws; fails the test if it reads or throws
 // anything else.
 std::string readError(const Bytes& b) {
-  try {
-    fromBytes(b);
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "non-Error exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "read succeeded";
-  return {};
+  return errorOf([&] { fromBytes(b); });
 }
 
 void putU32(Bytes& b, std::size_t at, std::uint32_t v) {
@@ -123,19 +109,6 @@ void expectSame(const Decomposition& a, const Decomposition& b) {
   EXPECT_EQ(a.inputOrder, b.inputOrder);
   EXPECT_EQ(a.inputFaces, b.inputFaces);
 }
-
-// A scratch directory removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path = fs::temp_directory_path() /
-           (std::string("osdmra_mra_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // Offsets of the fixed header (see mra_file.h).
 constexpr std::size_t kVersionAt = 8, kSchemeAt = 12, kKindAt = 13, kRingsAt = 14, kLevelsAt = 18,
@@ -195,7 +168,7 @@ TEST(MraFile, LayoutMatchesTheDocumentedOffsets) {
 
 TEST(MraFile, FileRoundTripLeavesNoTemporaryFiles) {
   TempDir dir;
-  const std::string path = (dir.path / "octa.mra").string();
+  const std::string path = dir.file("octa.mra");
   const Decomposition d = makeDecomposition(2, true, false);
   writeMra(path, d);
   expectSame(d, readMra(path));
@@ -203,29 +176,20 @@ TEST(MraFile, FileRoundTripLeavesNoTemporaryFiles) {
   const Decomposition d2 = makeDecomposition(1, false, true, 7);
   writeMra(path, d2);
   expectSame(d2, readMra(path));
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(dir.path))
-    names.push_back(entry.path().filename().string());
-  EXPECT_EQ(names, std::vector<std::string>{"octa.mra"});
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"octa.mra"});
 }
 
 TEST(MraFile, FailedWriteKeepsTheOldFile) {
   TempDir dir;
-  const std::string path = (dir.path / "octa.mra").string();
+  const std::string path = dir.file("octa.mra");
   const Decomposition d = makeDecomposition(1, false, false);
   writeMra(path, d);
   Decomposition broken = d;
   broken.details[0].conservativeResize(5, 3);
-  try {
-    writeMra(path, broken);
-    ADD_FAILURE() << "inconsistent decomposition written";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("detail rows"), std::string::npos) << e.what();
-  }
+  expectContains(errorOf([&] { writeMra(path, broken); }), {path, "detail rows"});
   expectSame(d, readMra(path));
-  EXPECT_THROW(writeMra((dir.path / "missing" / "x.mra").string(), d), Error);
-  EXPECT_FALSE(fs::exists(dir.path / "missing"));
+  EXPECT_THROW(writeMra((dir.path() / "missing" / "x.mra").string(), d), Error);
+  EXPECT_FALSE(fs::exists(dir.path() / "missing"));
 }
 
 TEST(MraFile, WriterRefusesWhatTheReaderWouldRefuse) {
@@ -383,22 +347,9 @@ TEST(MraFile, ValuesOutOfRangeAreRejectedEvenWithAValidChecksum) {
 
 TEST(MraFile, ReadErrorsNameTheFile) {
   TempDir dir;
-  const std::string missing = (dir.path / "nope.mra").string();
-  try {
-    readMra(missing);
-    ADD_FAILURE();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
-  }
-  EXPECT_THROW(readMra(dir.path.string()), Error);
-  const std::string obj = (dir.path / "mesh.obj").string();
-  std::ofstream(obj) << "v 0 0 0\n";
-  try {
-    readMra(obj);
-    ADD_FAILURE();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(obj + ": not an osdmra coefficient file"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string missing = dir.file("nope.mra");
+  expectContains(errorOf([&] { readMra(missing); }), {missing});
+  EXPECT_THROW(readMra(dir.path().string()), Error);
+  const std::string obj = dir.write("mesh.obj", "v 0 0 0\n");
+  expectContains(errorOf([&] { readMra(obj); }), {obj + ": not an osdmra coefficient file"});
 }

@@ -2,9 +2,7 @@
 // JSON summaries, and refusals with a clear message, a non-zero exit and no output.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,9 +10,11 @@
 
 #include "osdmra/mesh/io.h"
 #include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 namespace fs = std::filesystem;
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
 
@@ -23,33 +23,30 @@ struct Result {
   std::string out, err;
 };
 
+// Each test runs the tool in a scratch directory of its own.
 class Cli : public testing::Test {
  protected:
-  void SetUp() override {
-    static std::atomic<int> counter{0};
-    dir_ = fs::temp_directory_path() /
-           ("osdmra-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.file(name); }
 
   Result run(const std::string& args) const {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
     const std::string cmd = std::string(OSDMRA_CLI) + " " + args + " >" + out + " 2>" + err;
     const int raw = std::system(cmd.c_str());
-    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, readFile(out), readFile(err)};
     return r;
   }
-  static std::string slurp(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+
+  // Writes the built-in `shape` to `base`, then, through `subdivide --levels` with
+  // `levelsAndOptions` (levels, then scheme, displacement...), its refinement to `out`.
+  void makeSurface(const std::string& shape, const std::string& base,
+                   const std::string& levelsAndOptions, const std::string& out) const {
+    ASSERT_EQ(run("shape " + shape + " -o " + path(base)).status, 0);
+    const Result r =
+        run("subdivide " + path(base) + " --levels " + levelsAndOptions + " -o " + path(out));
+    ASSERT_EQ(r.status, 0) << r.err;
   }
 
-  fs::path dir_;
+  TempDir dir_;
 };
 
 }  // namespace
@@ -57,10 +54,9 @@ class Cli : public testing::Test {
 TEST_F(Cli, SubdivideAnalyzeSynthesizeRoundTrip) {
   for (const char* scheme : {"loop", "linear"}) {
     SCOPED_TRACE(scheme);
-    ASSERT_EQ(run("shape genus2 -o " + path("g2.obj")).status, 0);
-    const Result sub = run("subdivide " + path("g2.obj") + " --levels 3 --scheme " + scheme +
-                           " --displace 0.05 --seed 11 -o " + path("g2-3.ply"));
-    ASSERT_EQ(sub.status, 0) << sub.err;
+    ASSERT_NO_FATAL_FAILURE(makeSurface(
+        "genus2", "g2.obj", "3 --scheme " + std::string(scheme) + " --displace 0.05 --seed 11",
+        "g2-3.ply"));
     const Result an = run("analyze " + path("g2-3.ply") + " --scheme " + scheme +
                           " --rings 1 --json -o " + path("g2.mra"));
     ASSERT_EQ(an.status, 0) << an.err;
@@ -80,11 +76,7 @@ TEST_F(Cli, SubdivideAnalyzeSynthesizeRoundTrip) {
 }
 
 TEST_F(Cli, AnalyzeTakesAnyOrderAndRefusesOtherMeshes) {
-  ASSERT_EQ(run("shape octahedron -o " + path("oct.obj")).status, 0);
-  ASSERT_EQ(
-      run("subdivide " + path("oct.obj") + " --levels 2 --displace 0.05 -o " + path("oct2.obj"))
-          .status,
-      0);
+  ASSERT_NO_FATAL_FAILURE(makeSurface("octahedron", "oct.obj", "2 --displace 0.05", "oct2.obj"));
   // The base mesh itself has no levels.
   Result r = run("analyze " + path("oct.obj") + " -o " + path("x.mra"));
   EXPECT_EQ(r.status, 1);
@@ -100,13 +92,8 @@ TEST_F(Cli, AnalyzeTakesAnyOrderAndRefusesOtherMeshes) {
   EXPECT_FALSE(fs::exists(path("x.mra")));
   // Vertices and faces in another order, corners rotated: analysed, and written back
   // in the input's own order at full resolution.
-  TriMesh m = readMesh(path("oct2.obj"));
-  TriMesh shuffled = m;
-  const int n = static_cast<int>(m.V.rows());
-  for (int v = 0; v < n; ++v) shuffled.V.row((v * 37 + 11) % n) = m.V.row(v);
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    for (int c = 0; c < 3; ++c)
-      shuffled.F((f * 5 + 3) % m.F.rows(), c) = (m.F(f, (c + f) % 3) * 37 + 11) % n;
+  const TriMesh m = readMesh(path("oct2.obj"));
+  const TriMesh shuffled = shuffle(m, 37);
   writeMesh(path("shuffled.ply"), shuffled);
   r = run("analyze " + path("shuffled.ply") + " --json -o " + path("s.mra"));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -145,8 +132,7 @@ TEST_F(Cli, ClearErrorsForBadArgumentsAndFiles) {
 }
 
 TEST_F(Cli, InfoFindsLevelsAndTopology) {
-  ASSERT_EQ(run("shape cylinder -o " + path("cyl.obj")).status, 0);
-  ASSERT_EQ(run("subdivide " + path("cyl.obj") + " --levels 3 -o " + path("cyl3.ply")).status, 0);
+  ASSERT_NO_FATAL_FAILURE(makeSurface("cylinder", "cyl.obj", "3", "cyl3.ply"));
   const Result r = run("info " + path("cyl3.ply") + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   // The 6 x 3 cylinder is itself a split of a 3 x 2 one, with no extraordinary vertex
@@ -190,16 +176,13 @@ TEST_F(Cli, DemoWritesThePapersLevelsOfDetail) {
       EXPECT_LE(m.F.rows(), budget) << file;
       EXPECT_GT(m.F.rows(), budget * 95 / 100) << file;
     }
-  const std::string table = slurp(path("out/errors.md"));
+  const std::string table = readFile(path("out/errors.md"));
   EXPECT_NE(table.find("| loop | 4054 |"), std::string::npos) << table;
   EXPECT_TRUE(fs::exists(path("out/sweep-loop.csv")));
 }
 
 TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
-  ASSERT_EQ(run("shape genus2 -o " + path("g.obj")).status, 0);
-  ASSERT_EQ(
-      run("subdivide " + path("g.obj") + " --levels 3 --displace 0.03 -o " + path("g3.ply")).status,
-      0);
+  ASSERT_NO_FATAL_FAILURE(makeSurface("genus2", "g.obj", "3 --displace 0.03", "g3.ply"));
   for (const char* scheme : {"loop", "linear"}) {
     SCOPED_TRACE(scheme);
     const Result r = run("lod " + path("g3.ply") + " --scheme " + scheme +
@@ -221,16 +204,13 @@ TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
 }
 
 TEST_F(Cli, SweepWritesCsvAndPlot) {
-  ASSERT_EQ(run("shape octahedron -o " + path("o.obj")).status, 0);
-  ASSERT_EQ(
-      run("subdivide " + path("o.obj") + " --levels 3 --displace 0.03 -o " + path("o3.obj")).status,
-      0);
+  ASSERT_NO_FATAL_FAILURE(makeSurface("octahedron", "o.obj", "3 --displace 0.03", "o3.obj"));
   const bool gnuplot = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
   const std::string plot = gnuplot ? " --plot " + path("s.png") : "";
   const Result r =
       run("sweep " + path("o3.obj") + " --points 6 --samples 1000 --csv " + path("s.csv") + plot);
   ASSERT_EQ(r.status, 0) << r.err;
-  std::istringstream csv(slurp(path("s.csv")));
+  std::istringstream csv(readFile(path("s.csv")));
   std::string line;
   std::getline(csv, line);
   EXPECT_EQ(line.rfind("triangles,coefficients_kept", 0), 0u) << line;
@@ -244,17 +224,14 @@ TEST_F(Cli, SweepWritesCsvAndPlot) {
   EXPECT_EQ(rows, 6);
   EXPECT_EQ(previousTriangles, 8 * 64);  // the last row keeps everything
   if (gnuplot) {
-    const std::string png = slurp(path("s.png"));
+    const std::string png = readFile(path("s.png"));
     ASSERT_GT(png.size(), 1000u);
     EXPECT_EQ(png.substr(1, 3), "PNG");
   }
 }
 
 TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
-  ASSERT_EQ(run("shape torus -o " + path("t.obj")).status, 0);
-  ASSERT_EQ(
-      run("subdivide " + path("t.obj") + " --levels 3 --displace 0.02 -o " + path("t3.obj")).status,
-      0);
+  ASSERT_NO_FATAL_FAILURE(makeSurface("torus", "t.obj", "3 --displace 0.02", "t3.obj"));
   // An unreferenced vertex is dropped, not refused.
   { std::ofstream(path("t3.obj"), std::ios::app) << "v 9 9 9\n"; }
   const Result r =
@@ -293,7 +270,7 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
       run("demo " + path("t3.obj") +
           " --remesh --base-faces 100 --levels 2 --points 3 --samples 500 --out " + path("demo"));
   ASSERT_EQ(demo.status, 0) << demo.err;
-  EXPECT_NE(slurp(path("demo/errors.md")).find("Remeshing"), std::string::npos);
+  EXPECT_NE(readFile(path("demo/errors.md")).find("Remeshing"), std::string::npos);
   EXPECT_TRUE(fs::exists(path("demo/t3-loop-4054.obj")));
   // Two tetrahedra sharing one vertex: a bowtie, refused with the vertex named.
   {

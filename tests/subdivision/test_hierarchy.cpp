@@ -1,45 +1,18 @@
+// Hierarchy (hierarchy.h): level sizes, refinement rows, the index conventions
+// checked against the faces themselves, and Loop limit evaluation.
 #include <gtest/gtest.h>
 
-#include <set>
-
-#include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/subdivision/hierarchy.h"
+#include "osdmra/subdivision/shapes.h"
+
 using namespace osdmra;
+
 TEST(Hierarchy, OctahedronCounts) {
-  Faces F(8, 3);
-  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  Hierarchy h(F, 6, 3);
+  Hierarchy h(shapes::octahedron().F, 6, 3);
   EXPECT_EQ(h.numVertices(3), 4 * 4 * 4 * 8 / 2 + 2);
   const auto& P = h.refinement(Scheme::Loop, 2);
   for (int r = 0; r < P.rows(); ++r) EXPECT_NEAR(P.row(r).sum(), 1.0, 1e-15);
-}
-
-#include "osdmra/subdivision/shapes.h"
-
-// The test shapes have the topology their names promise.
-TEST(Shapes, TopologyAsAdvertised) {
-  struct Expect {
-    const char* name;
-    int genus, loops;
-  };
-  for (Expect e :
-       {Expect{"tetrahedron", 0, 0}, Expect{"octahedron", 0, 0}, Expect{"icosahedron", 0, 0},
-        Expect{"torus", 1, 0}, Expect{"genus2", 2, 0}, Expect{"genus3", 3, 0}, Expect{"disc", 0, 1},
-        Expect{"cylinder", 0, 2}, Expect{"valences", 0, 0}}) {
-    SCOPED_TRACE(e.name);
-    const TriMesh m = shapes::byName(e.name);
-    validate(m, e.name);
-    const Connectivity c(m.F, static_cast<int>(m.V.rows()));
-    EXPECT_EQ(c.numComponents(), 1);
-    EXPECT_EQ(c.numBoundaryLoops(), e.loops);
-    EXPECT_EQ((2 - c.eulerCharacteristic() - e.loops) / 2, e.genus);
-  }
-  // Valences 3 to at least 10 in one mesh.
-  const TriMesh v = shapes::valences();
-  const Connectivity c(v.F, static_cast<int>(v.V.rows()));
-  std::set<int> seen;
-  for (int i = 0; i < c.numVertices(); ++i) seen.insert(c.valence(i));
-  for (int k = 3; k <= 10; ++k) EXPECT_TRUE(seen.count(k)) << "valence " << k;
 }
 
 // Index conventions of hierarchy.h, checked against the faces themselves.

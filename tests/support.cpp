@@ -1,0 +1,181 @@
+#include "support.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <fstream>
+#include <numeric>
+#include <ostream>
+#include <random>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/connectivity.h"
+
+namespace osdmra::test {
+
+namespace fs = std::filesystem;
+
+// ---- Errors ------------------------------------------------------------------------
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected an osdmra::Error, got another exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected an osdmra::Error, nothing was thrown";
+  return "";
+}
+
+void expectContains(const std::string& message, std::initializer_list<std::string_view> parts) {
+  for (std::string_view part : parts)
+    EXPECT_NE(message.find(part), std::string::npos)
+        << "message \"" << message << "\" lacks \"" << part << "\"";
+}
+
+// ---- Files -------------------------------------------------------------------------
+
+TempDir::TempDir() {
+  // Test processes run in parallel (one per test under ctest): the process id keeps
+  // their directories apart, the counter those of one process. A directory of the
+  // same name can only be a leftover of a dead process.
+  static std::atomic<int> counter{0};
+  path_ = fs::temp_directory_path() /
+          ("osdmra_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  fs::remove_all(path_);
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+}
+
+std::string TempDir::file(const std::string& name) const {
+  return (path_ / name).string();
+}
+
+std::string TempDir::write(const std::string& name, std::string_view bytes) const {
+  const std::string p = file(name);
+  std::ofstream out(p, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return p;
+}
+
+std::vector<std::string> TempDir::entries() const {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// ---- Meshes ------------------------------------------------------------------------
+
+TriMesh makeMesh(std::initializer_list<std::array<double, 3>> points,
+                 std::initializer_list<std::array<int, 3>> faces) {
+  TriMesh m;
+  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
+  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  Eigen::Index r = 0;
+  for (const auto& p : points) m.V.row(r++) << p[0], p[1], p[2];
+  r = 0;
+  for (const auto& f : faces) m.F.row(r++) << f[0], f[1], f[2];
+  return m;
+}
+
+TriMesh cornerTetrahedron() {
+  return makeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+                  {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
+}
+
+TriMesh unitSquare(double z) {
+  return makeMesh({{0, 0, z}, {1, 0, z}, {1, 1, z}, {0, 1, z}}, {{0, 1, 2}, {0, 2, 3}});
+}
+
+TriMesh unitCube() {
+  TriMesh c;
+  c.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) c.V.row(i) << (i & 1), (i >> 1 & 1), (i >> 2 & 1);
+  c.F.resize(12, 3);
+  c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6,
+      1, 3, 5, 3, 7, 5;
+  return c;
+}
+
+// ---- Orders ------------------------------------------------------------------------
+
+namespace {
+
+std::vector<int> permutation(int n, std::mt19937_64& rng) {
+  std::vector<int> perm(static_cast<std::size_t>(n));
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  return perm;
+}
+
+}  // namespace
+
+std::vector<int> randomPermutation(int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  return permutation(n, rng);
+}
+
+TriMesh renumberVertices(const TriMesh& m, const std::vector<int>& newIndexOf) {
+  TriMesh out;
+  out.V.resize(m.V.rows(), 3);
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) out.V.row(newIndexOf[v]) = m.V.row(v);
+  out.F.resize(m.F.rows(), 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) out.F(f, k) = newIndexOf[m.F(f, k)];
+  return out;
+}
+
+TriMesh shuffle(const TriMesh& m, std::uint64_t seed, std::vector<int>* newIndexOf) {
+  std::mt19937_64 rng(seed);
+  const std::vector<int> perm = permutation(static_cast<int>(m.V.rows()), rng);  // perm[old]
+  const std::vector<int> order = permutation(static_cast<int>(m.F.rows()), rng);
+  TriMesh out;
+  out.V.resize(m.V.rows(), 3);
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) out.V.row(perm[i]) = m.V.row(i);
+  out.F.resize(m.F.rows(), 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const int r = static_cast<int>(rng() % 3);
+    for (int c = 0; c < 3; ++c) out.F(f, c) = perm[m.F(order[f], (c + r) % 3)];
+  }
+  if (newIndexOf) *newIndexOf = perm;
+  return out;
+}
+
+// ---- Topology ----------------------------------------------------------------------
+
+std::ostream& operator<<(std::ostream& os, const Topology& t) {
+  return os << "{euler " << t.euler << ", boundary loops " << t.boundaryLoops << ", components "
+            << t.components << ", genus " << t.genus << "}";
+}
+
+Topology topology(const Faces& F, int numVertices) {
+  const Connectivity c(F, numVertices);
+  Topology t;
+  t.euler = c.eulerCharacteristic();
+  t.boundaryLoops = c.numBoundaryLoops();
+  t.components = c.numComponents();
+  t.genus = (2 * t.components - t.euler - t.boundaryLoops) / 2;
+  return t;
+}
+
+Topology topology(const TriMesh& m) {
+  return topology(m.F, static_cast<int>(m.V.rows()));
+}
+
+}  // namespace osdmra::test
