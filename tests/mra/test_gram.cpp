@@ -2,7 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include "osdmra/mra/gram.h"
 #include "osdmra/subdivision/shapes.h"
@@ -134,4 +138,43 @@ TEST(LoopGram, ConvergenceOfPolyhedralSumsOnFinerLevels) {
     }
     EXPECT_LT(previousError, 2e-4);
   }
+}
+
+// LocalGram (what the wavelet construction reads around one edge) gives the entries of
+// the assembled I^j: blocks on any vertex set, columns with their rows ascending.
+TEST(LocalGram, BlocksAndColumnsAreTheAssembledGram) {
+  for (const char* name : {"valences", "disc", "cylinder"})
+    for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+      SCOPED_TRACE(std::string(name) + " " + schemeName(s));
+      const TriMesh base = shapes::byName(name);
+      Hierarchy h(base.F, static_cast<int>(base.V.rows()), 1);
+      ElementGram elements(s);
+      const Connectivity& c = h.connectivity(1);
+      const SparseMatrix I = gram(c, 1, elements);
+      const double tolerance = 1e-15 * maxAbs(I);
+      LocalGram local(c, 1, elements);
+      std::mt19937 rng(4);
+      for (int trial = 0; trial < 20; ++trial) {
+        std::vector<int> S;  // distinct vertices, in no particular order
+        for (int v = 0; v < c.numVertices(); ++v)
+          if (rng() % 5 == 0) S.push_back(v);
+        std::shuffle(S.begin(), S.end(), rng);
+        const Eigen::MatrixXd B = local.block(S);
+        ASSERT_EQ(B.rows(), static_cast<Eigen::Index>(S.size()));
+        for (std::size_t a = 0; a < S.size(); ++a)
+          for (std::size_t b = 0; b < S.size(); ++b)
+            EXPECT_NEAR(B(a, b), I.coeff(S[a], S[b]), tolerance);
+      }
+      for (int k = 0; k < c.numVertices(); ++k) {
+        std::vector<std::pair<int, double>> expected;
+        for (int r = 0; r < I.rows(); ++r)
+          if (I.coeff(r, k) != 0) expected.emplace_back(r, I.coeff(r, k));
+        const std::vector<std::pair<int, double>> column = local.column(k);
+        ASSERT_EQ(column.size(), expected.size()) << "column " << k;
+        for (std::size_t i = 0; i < column.size(); ++i) {
+          EXPECT_EQ(column[i].first, expected[i].first) << "column " << k;
+          EXPECT_NEAR(column[i].second, expected[i].second, tolerance) << "column " << k;
+        }
+      }
+    }
 }
