@@ -157,6 +157,12 @@ TriMesh shuffle(const TriMesh& m, std::uint64_t seed, std::vector<int>* newIndex
   return out;
 }
 
+// ---- Names -------------------------------------------------------------------------
+
+std::string waveletsName(const WaveletOptions& w) {
+  return w.kind == WaveletKind::Quasi ? "quasi" + std::to_string(w.rings) : waveletKindName(w.kind);
+}
+
 // ---- Topology ----------------------------------------------------------------------
 
 std::ostream& operator<<(std::ostream& os, const Topology& t) {

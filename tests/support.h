@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/mra/decomposition.h"
 
 namespace osdmra::test {
 
@@ -82,6 +83,11 @@ TriMesh renumberVertices(const TriMesh& m, const std::vector<int>& newIndexOf);
 /// (the same surface, as a file from elsewhere would have it). `newIndexOf`, when
 /// given, receives each old vertex's new index.
 TriMesh shuffle(const TriMesh& m, std::uint64_t seed, std::vector<int>* newIndexOf = nullptr);
+
+// ---- Names -------------------------------------------------------------------------
+
+/// "lazy", "quasi<r>" or "pre": wavelet options as test names and traces show them.
+std::string waveletsName(const WaveletOptions& w);
 
 // ---- Topology ----------------------------------------------------------------------
 

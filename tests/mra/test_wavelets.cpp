@@ -1,0 +1,300 @@
+// Wavelets (wavelets.h, math.md section 3): alpha^j has the documented shape and
+// pattern (lazy: none; quasi: the r-ring of the parent edge; pre: every coarse vertex);
+// the Galerkin condition <psi^j_m, phi^j_k> = 0 for k in S(m), checked on the
+// assembled Gram matrices, and for every k with pre-wavelets; orthogonality() reports
+// what its definition says, improving with r; the reported norms are those of the
+// assembled wavelets; and neighbourhoods are solved once and shared.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mra/gram.h"
+#include "osdmra/mra/wavelets.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
+
+using namespace osdmra;
+using namespace osdmra::test;
+
+namespace {
+
+const WaveletOptions kLazy{WaveletKind::Lazy, 0}, kPre{WaveletKind::Pre, 0};
+
+WaveletOptions quasi(int rings) {
+  return {WaveletKind::Quasi, rings};
+}
+
+// The vertices of `c` within r edges of a or b: the r-ring of the edge {a, b}.
+std::set<int> ringsAround(const Connectivity& c, int a, int b, int r) {
+  std::set<int> ball{a, b};
+  std::vector<int> front{a, b};
+  for (int d = 0; d < r; ++d) {
+    std::vector<int> next;
+    for (int v : front)
+      for (int w : c.ring(v))
+        if (ball.insert(w).second) next.push_back(w);
+    front = std::move(next);
+  }
+  return ball;
+}
+
+// The rows column e of alpha stores: S(m) for the new vertex m = n_j + e.
+std::set<int> pattern(const AlphaMatrix& alpha, int e) {
+  std::set<int> rows;
+  for (AlphaMatrix::InnerIterator it(alpha, e); it; ++it) rows.insert(static_cast<int>(it.row()));
+  return rows;
+}
+
+// c(m, k) = |<psi^j_m, phi^j_k>| / (||psi^j_m|| ||phi^j_k||) for every new vertex m
+// (rows) and coarse vertex k (columns), from the assembled I^j and I^{j+1}:
+// <psi_m, phi_k> = (Q^T I^{j+1} P)_{mk}, ||psi_m||^2 = (Q^T I^{j+1} Q)_{mm}.
+Eigen::MatrixXd normalisedInnerProducts(const Hierarchy& h, Scheme s, int j,
+                                        const AlphaMatrix& alpha) {
+  ElementGram elements(s);
+  const SparseMatrix coarse = gram(h.connectivity(j), j, elements);
+  const SparseMatrix fine = gram(h.connectivity(j + 1), j + 1, elements);
+  const Eigen::MatrixXd Q = Eigen::MatrixXd(synthesisMatrix(h, s, j, alpha));
+  const Eigen::MatrixXd P = Eigen::MatrixXd(h.refinement(s, j));
+  const Eigen::MatrixXd IQ = fine * Q;
+  Eigen::MatrixXd c = (IQ.transpose() * P).cwiseAbs();
+  const Eigen::VectorXd psi = (Q.transpose() * IQ).diagonal().cwiseSqrt();
+  const Eigen::VectorXd phi = Eigen::VectorXd(coarse.diagonal()).cwiseSqrt();
+  for (Eigen::Index m = 0; m < c.rows(); ++m)
+    for (Eigen::Index k = 0; k < c.cols(); ++k) c(m, k) /= psi(m) * phi(k);
+  return c;
+}
+
+// OrthogonalityStats by their definition (wavelets.h), from normalisedInnerProducts.
+OrthogonalityStats measured(const Eigen::MatrixXd& c, const AlphaMatrix& alpha) {
+  OrthogonalityStats o;
+  for (Eigen::Index m = 0; m < c.rows(); ++m) {
+    for (int k : pattern(alpha, static_cast<int>(m)))
+      o.worstInside = std::max(o.worstInside, c(m, k));
+    o.worst = std::max(o.worst, c.row(m).maxCoeff());
+    o.mean += c.row(m).maxCoeff();
+  }
+  o.mean /= static_cast<double>(c.rows());
+  return o;
+}
+
+// Calls check(h, scheme, wavelets, j, alpha^j) for every level j of the octahedron,
+// torus, disc and valences refined twice, both schemes, and lazy, quasi (r = 0, 1, 2)
+// and pre-wavelets.
+template <class Check>
+void forEachLevel(Check check) {
+  for (const char* name : {"octahedron", "torus", "disc", "valences"})
+    for (Scheme s : {Scheme::Loop, Scheme::Linear})
+      for (const WaveletOptions& k : {kLazy, quasi(0), quasi(1), quasi(2), kPre}) {
+        SCOPED_TRACE(std::string(name) + " " + schemeName(s) + " " + waveletsName(k));
+        const TriMesh base = shapes::byName(name);
+        const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 2);
+        const std::vector<AlphaMatrix> alphas = waveletCorrections(h, s, k);
+        ASSERT_EQ(alphas.size(), 2u);
+        for (int j = 0; j < 2; ++j) {
+          SCOPED_TRACE("level " + std::to_string(j));
+          check(h, s, k, j, alphas[j]);
+        }
+      }
+}
+
+}  // namespace
+
+// alpha^j is n_j x (n_{j+1} - n_j); its column for m = n_j + e stores S(m): nothing
+// for lazy wavelets, the r-ring of the parent edge for quasi-wavelets. Q^{j+1} = E -
+// P alpha is n_{j+1} x (n_{j+1} - n_j), E itself for lazy wavelets.
+TEST(Wavelets, AlphaHasTheDocumentedShapeAndPattern) {
+  forEachLevel(
+      [](const Hierarchy& h, Scheme s, const WaveletOptions& k, int j, const AlphaMatrix& alpha) {
+        const int n = h.numVertices(j), added = h.numVertices(j + 1) - n;
+        ASSERT_EQ(alpha.rows(), n);
+        ASSERT_EQ(alpha.cols(), added);
+        const SparseMatrix Q = synthesisMatrix(h, s, j, alpha);
+        EXPECT_EQ(Q.rows(), h.numVertices(j + 1));
+        EXPECT_EQ(Q.cols(), added);
+        if (k.kind == WaveletKind::Lazy) {
+          EXPECT_EQ(alpha.nonZeros(), 0);
+          EXPECT_EQ(Q.nonZeros(), added);
+          for (int e = 0; e < added; ++e) EXPECT_EQ(Q.coeff(n + e, e), 1.0);
+        }
+        if (k.kind == WaveletKind::Quasi)
+          for (int e = 0; e < added; ++e) {
+            const auto [a, b] = h.parentEdge(j, e);
+            EXPECT_EQ(pattern(alpha, e), ringsAround(h.connectivity(j), a, b, k.rings))
+                << "new vertex " << n + e;
+          }
+      });
+}
+
+// The Galerkin condition on the assembled matrices, independently of orthogonality():
+// psi^j_m is orthogonal to phi^j_k for every k in S(m), to rounding, and to every
+// phi^j_k for pre-wavelets. Lazy wavelets are not (the check is not vacuous).
+TEST(Wavelets, GalerkinConditionOnTheAssembledGram) {
+  forEachLevel(
+      [](const Hierarchy& h, Scheme s, const WaveletOptions& k, int j, const AlphaMatrix& alpha) {
+        const OrthogonalityStats o = measured(normalisedInnerProducts(h, s, j, alpha), alpha);
+        EXPECT_LT(o.worstInside, 1e-12);
+        if (k.kind == WaveletKind::Pre) {
+          EXPECT_LT(o.worst, 1e-12);
+        }
+        if (k.kind == WaveletKind::Lazy) {
+          EXPECT_GT(o.worst, 0.1);
+        }
+      });
+}
+
+// orthogonality() reports what wavelets.h defines; on the octahedron's level 1 -> 2
+// every ring brings the quasi-wavelets closer to orthogonal, from the lazy wavelets
+// to the pre-wavelets.
+TEST(Wavelets, OrthogonalityStatsMatchTheirDefinitionAndImproveWithRings) {
+  const TriMesh base = shapes::octahedron();
+  const Hierarchy h(base.F, 6, 2);
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    double previous = 2.0;  // c <= 1 (Cauchy-Schwarz)
+    for (const WaveletOptions& k : {kLazy, quasi(0), quasi(1), quasi(2), kPre}) {
+      SCOPED_TRACE(std::string(schemeName(s)) + " " + waveletsName(k));
+      const AlphaMatrix alpha = waveletCorrections(h, s, k)[1];
+      const OrthogonalityStats reported = orthogonality(h, s, 1, alpha);
+      const OrthogonalityStats expected = measured(normalisedInnerProducts(h, s, 1, alpha), alpha);
+      EXPECT_NEAR(reported.worstInside, expected.worstInside, 1e-12);
+      EXPECT_NEAR(reported.worst, expected.worst, 1e-12);
+      EXPECT_NEAR(reported.mean, expected.mean, 1e-12);
+      EXPECT_LT(reported.worstInside, 1e-12);
+      EXPECT_LE(reported.mean, reported.worst);
+      EXPECT_LT(reported.worst, previous);
+      previous = reported.worst;
+    }
+    EXPECT_LT(previous, 1e-12);  // pre-wavelets
+  }
+}
+
+// When the r-ring of every edge is the whole of M^j (the octahedron's 1-rings at
+// level 0), quasi-wavelets are pre-wavelets.
+TEST(Wavelets, QuasiWaveletsOverTheWholeLevelArePreWavelets) {
+  const TriMesh base = shapes::octahedron();
+  const Hierarchy h(base.F, 6, 1);
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    const AlphaMatrix q = waveletCorrections(h, s, quasi(1))[0];
+    const AlphaMatrix p = waveletCorrections(h, s, kPre)[0];
+    for (int e = 0; e < q.cols(); ++e) EXPECT_EQ(pattern(q, e).size(), 6u);
+    EXPECT_LT(Eigen::MatrixXd(Eigen::MatrixXd(q) - Eigen::MatrixXd(p)).cwiseAbs().maxCoeff(),
+              1e-13);
+  }
+}
+
+// On the torus every vertex is regular: a handful of distinct neighbourhoods (the
+// first levels, before rings stop wrapping around) serve thousands of wavelets. Every
+// new vertex is either solved or reused.
+TEST(Wavelets, ReuseOnARegularSurface) {
+  const TriMesh base = shapes::torus();
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
+  const long long added = h.numVertices(4) - h.numVertices(0);
+  for (Scheme s : {Scheme::Loop, Scheme::Linear})
+    for (const WaveletOptions& k : {kLazy, quasi(0), quasi(1), quasi(2)}) {
+      SCOPED_TRACE(std::string(schemeName(s)) + " " + waveletsName(k));
+      WaveletStats stats;
+      waveletCorrections(h, s, k, {}, &stats);
+      EXPECT_EQ(stats.localSolves + stats.reused, added);
+      EXPECT_GE(stats.localSolves, 1);
+      EXPECT_LT(stats.localSolves * 500, added) << stats.localSolves << " solves";
+    }
+}
+
+TEST(Wavelets, RejectsRingsOutOfRange) {
+  const TriMesh base = shapes::octahedron();
+  const Hierarchy h(base.F, 6, 1);
+  for (int rings : {-1, 9})
+    expectContains(errorOf([&] { waveletCorrections(h, Scheme::Loop, quasi(rings)); }),
+                   {"rings must be in 0..8", std::to_string(rings)});
+}
+
+// <psi^j_m, phi^j_k> = 0 exactly for every k in S(m) (the Galerkin condition), and
+// for every k with pre-wavelets; rows of P sum to one.
+TEST(Wavelets, GalerkinOrthogonalityInsideTheSupport) {
+  for (auto& [name, base] : shapes::all())
+    for (Scheme s : {Scheme::Loop, Scheme::Linear})
+      for (WaveletOptions k :
+           {WaveletOptions{WaveletKind::Quasi, 0}, WaveletOptions{WaveletKind::Quasi, 2},
+            WaveletOptions{WaveletKind::Pre, 0}}) {
+        SCOPED_TRACE(name + " " + schemeName(s) + " " + waveletsName(k));
+        const int J = 2;
+        Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+        const auto alphas = waveletCorrections(h, s, k);
+        for (int j = 0; j < J; ++j) {
+          const SparseMatrix& P = h.refinement(s, j);
+          for (int r = 0; r < P.rows(); ++r) EXPECT_NEAR(P.row(r).sum(), 1.0, 1e-15);
+          const OrthogonalityStats o = orthogonality(h, s, j, alphas[j]);
+          EXPECT_LT(o.worstInside, 1e-11) << "level " << j;
+          if (k.kind == WaveletKind::Pre) {
+            EXPECT_LT(o.worst, 1e-11) << "pre-wavelets, level " << j;
+          }
+        }
+      }
+}
+
+// As r grows the quasi-wavelets approach the orthogonal complement.
+TEST(Wavelets, OrthogonalityImprovesWithRings) {
+  const TriMesh base = shapes::icosahedron();
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    Hierarchy h(base.F, 12, 3);
+    double previous = 1e300;
+    for (int r : {-1, 0, 1, 2, 3}) {
+      const WaveletOptions opt =
+          r < 0 ? WaveletOptions{WaveletKind::Lazy, 0} : WaveletOptions{WaveletKind::Quasi, r};
+      const auto alphas = waveletCorrections(h, s, opt);
+      const double worst = orthogonality(h, s, 2, alphas[2]).worst;
+      EXPECT_LT(worst, previous) << "r = " << r;
+      previous = worst;
+    }
+  }
+}
+
+TEST(Wavelets, RejectsPreWaveletsOnLargeMeshes) {
+  const TriMesh base = shapes::octahedron();
+  Hierarchy h(base.F, 6, 6);
+  EXPECT_THROW(waveletCorrections(h, Scheme::Loop, {WaveletKind::Pre, 0}), Error);
+}
+
+TEST(Wavelets, NeighbourhoodsAreShared) {
+  const TriMesh base = shapes::octahedron();
+  Hierarchy h(base.F, 6, 6);
+  WaveletStats stats;
+  waveletCorrections(h, Scheme::Loop, {WaveletKind::Quasi, 1}, {}, &stats);
+  // 16k wavelets, almost all regular: a few hundred distinct neighbourhoods at most.
+  EXPECT_LT(stats.localSolves, 2000);
+  EXPECT_GT(stats.reused, 10 * stats.localSolves);
+}
+
+// The wavelet norms reported with alpha (shared per neighbourhood) equal
+// sqrt(diag(Q^T I^{j+1} Q)) computed from the assembled matrices.
+TEST(Wavelets, NormsMatchAssembledGram) {
+  for (const char* name : {"tetrahedron", "disc", "valences", "torus"})
+    for (Scheme s : {Scheme::Loop, Scheme::Linear})
+      for (WaveletOptions k :
+           {WaveletOptions{WaveletKind::Lazy, 0}, WaveletOptions{WaveletKind::Quasi, 1},
+            WaveletOptions{WaveletKind::Quasi, 2}, WaveletOptions{WaveletKind::Pre, 0}}) {
+        SCOPED_TRACE(std::string(name) + " " + schemeName(s) + " " + waveletsName(k));
+        const TriMesh base = shapes::byName(name);
+        const int J = k.kind == WaveletKind::Pre ? 2 : 3;  // pre-wavelets are dense
+        Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+        std::vector<Eigen::VectorXd> norms;
+        const auto alphas = waveletCorrections(h, s, k, {}, nullptr, &norms);
+        ElementGram elements(s);
+        for (int j = 0; j < J; ++j) {
+          const SparseMatrix Q = synthesisMatrix(h, s, j, alphas[j]);
+          const SparseMatrix I = gram(h.connectivity(j + 1), j + 1, elements);
+          const SparseMatrix IQ = I * Q;
+          const Eigen::VectorXd expected =
+              SparseMatrix(SparseMatrix(Q.transpose()) * IQ).diagonal().cwiseSqrt();
+          ASSERT_EQ(norms[j].size(), expected.size());
+          EXPECT_LT((norms[j] - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.maxCoeff())
+              << "level " << j;
+        }
+      }
+}
