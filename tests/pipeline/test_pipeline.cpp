@@ -1,0 +1,289 @@
+// The pipeline (pipeline.h): a file to a validated surface, or through the remesher to
+// one with subdivision connectivity; a surface in any order to its decomposition and
+// back in that order; a stored decomposition to the same surface; levels of detail
+// and their errors; and an AnalysedSurface that keeps working when moved.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/mra/mra_file.h"
+#include "osdmra/pipeline.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
+
+using namespace osdmra;
+using namespace osdmra::test;
+
+namespace {
+
+constexpr int kLevels = 3;
+
+// A displaced octahedron refined kLevels times (Loop), vertices, faces and corners
+// shuffled: a surface with subdivision connectivity that does not show it.
+TriMesh shuffledSurface() {
+  return shuffle(subdivide(shapes::octahedron(), kLevels, Scheme::Loop, 0.05, 5), 31);
+}
+
+double maxDifference(const Points& a, const Points& b) {
+  return (a - b).cwiseAbs().maxCoeff();
+}
+
+// The analysed surface every test below starts from, made once.
+const AnalysedSurface& analysed() {
+  static const AnalysedSurface a(shuffledSurface(), {}, "octahedron.ply");
+  return a;
+}
+
+}  // namespace
+
+TEST(LoadSurface, ReadsAndValidatesAFile) {
+  TempDir dir;
+  const TriMesh mesh = subdivide(shapes::torus(), 2, Scheme::Loop, 0.05, 2);
+  const std::string path = dir.file("torus.ply");
+  writeMesh(path, mesh);
+  const LoadedSurface s = loadSurface(path);
+  EXPECT_EQ(s.source, path);
+  EXPECT_EQ(s.mesh.V, mesh.V);  // binary PLY is exact
+  EXPECT_EQ(s.mesh.F, mesh.F);
+  EXPECT_FALSE(s.remeshing.has_value());
+  EXPECT_GE(s.seconds, 0.0);
+}
+
+TEST(LoadSurface, ErrorsNameTheFile) {
+  TempDir dir;
+  const std::string missing = dir.file("missing.obj");
+  expectContains(errorOf([&] { loadSurface(missing); }), {missing, "cannot open"});
+  InputOptions remeshing;
+  remeshing.remesh = true;
+  expectContains(errorOf([&] { loadSurface(missing, remeshing); }), {missing, "cannot open"});
+  // An invalid mesh: a flipped face, named by the file, remeshed or not.
+  TriMesh flipped = cornerTetrahedron();
+  std::swap(flipped.F(3, 1), flipped.F(3, 2));
+  const std::string path = dir.file("flipped.obj");
+  writeMesh(path, flipped);
+  expectContains(errorOf([&] { loadSurface(path); }), {path + ": ", "face 3"});
+  expectContains(errorOf([&] { loadSurface(path, remeshing); }), {path + ": ", "face 3"});
+  // Options the remesher refuses, named by the file and the option.
+  writeMesh(path, subdivide(shapes::icosahedron(), 1, Scheme::Loop));
+  remeshing.remeshing.baseFaces = 2;
+  expectContains(errorOf([&] { loadSurface(path, remeshing); }),
+                 {path + ": ", "RemeshOptions::baseFaces"});
+}
+
+TEST(AnalysedSurface, RecoversTheStructureOfAShuffledSurface) {
+  const TriMesh input = shuffledSurface();
+  const AnalysedSurface& a = analysed();
+  EXPECT_EQ(a.levels(), kLevels);
+  ASSERT_NE(a.recovery(), nullptr);
+  EXPECT_EQ(a.recovery()->levels, kLevels);
+  EXPECT_EQ(a.recovery()->numBaseVertices, 6);
+  EXPECT_EQ(a.recovery()->baseFaces.rows(), 8);
+  EXPECT_EQ(a.hierarchy().levels(), kLevels);
+  EXPECT_EQ(a.hierarchy().numVertices(kLevels), input.V.rows());
+  // The canonical positions are the input's, reordered.
+  const Decomposition& d = a.decomposition();
+  ASSERT_EQ(d.inputOrder.size(), static_cast<std::size_t>(input.V.rows()));
+  const Points& canonical = a.canonicalPositions();
+  ASSERT_EQ(canonical.rows(), input.V.rows());
+  for (Eigen::Index i = 0; i < canonical.rows(); ++i)
+    EXPECT_EQ(canonical.row(i), input.V.row(d.inputOrder[i])) << "canonical vertex " << i;
+  EXPECT_EQ(d.inputFaces, input.F);
+  EXPECT_EQ(d.scheme, Scheme::Loop);
+  EXPECT_GE(a.times().total(), a.times().analysis);
+}
+
+TEST(AnalysedSurface, ReconstructsTheInputInItsOwnOrder) {
+  const TriMesh input = shuffledSurface();
+  const AnalysedSurface& a = analysed();
+  const TriMesh back = a.reconstruct(a.decomposition(), kLevels);
+  EXPECT_EQ(back.F, input.F);
+  ASSERT_EQ(back.V.rows(), input.V.rows());
+  EXPECT_LT(maxDifference(back.V, input.V), 1e-12 * boundingBoxDiagonal(input.V));
+  // Below J: the canonical mesh of that level, the base mesh at level 0.
+  const TriMesh base = a.reconstruct(a.decomposition(), 0);
+  EXPECT_EQ(base.F, a.hierarchy().faces(0));
+  EXPECT_EQ(base.V, a.decomposition().base);
+  const TriMesh level2 = a.reconstruct(a.decomposition(), 2);
+  EXPECT_EQ(level2.F, a.hierarchy().faces(2));
+  EXPECT_EQ(level2.V.rows(), a.hierarchy().numVertices(2));
+  EXPECT_THROW(a.reconstruct(a.decomposition(), kLevels + 1), Error);
+}
+
+TEST(AnalysedSurface, AStoredDecompositionGivesTheSameSurface) {
+  const AnalysedSurface& a = analysed();
+  const TriMesh expected = a.reconstruct(a.decomposition(), kLevels);
+  // Directly, and through a .mra file as the command-line tool does.
+  TempDir dir;
+  const std::string path = dir.file("octahedron.mra");
+  writeMra(path, a.decomposition());
+  for (const bool fromFile : {false, true}) {
+    SCOPED_TRACE(fromFile ? "from the file" : "from memory");
+    const AnalysedSurface stored(fromFile ? readMra(path) : a.decomposition());
+    EXPECT_EQ(stored.recovery(), nullptr);
+    EXPECT_EQ(stored.canonicalPositions().rows(), 0);
+    EXPECT_EQ(stored.levels(), kLevels);
+    const TriMesh back = stored.reconstruct(stored.decomposition(), kLevels);
+    EXPECT_EQ(back.F, expected.F);
+    EXPECT_EQ(back.V, expected.V);  // the same filter bank, the same arithmetic
+    // Made without the approximator (the default here): asking for it is an Error
+    // that names the option; setApproximation builds it.
+    AnalysedSurface withLod(fromFile ? readMra(path) : a.decomposition());
+    expectContains(errorOf([&] { withLod.approximator(); }), {"AnalysisOptions::approximator"});
+    withLod.setApproximation({});
+    EXPECT_EQ(withLod.approximator().budget(100).triangles(),
+              a.approximator().budget(100).triangles());
+  }
+}
+
+TEST(AnalysedSurface, ApproximatorOnlyWhenAskedFor) {
+  AnalysisOptions options;
+  options.approximator = false;
+  AnalysedSurface a(shuffledSurface(), options);
+  expectContains(errorOf([&] { a.approximator(); }), {"AnalysisOptions::approximator"});
+  EXPECT_EQ(a.times().approximator, 0.0);
+  // Analysis and synthesis do not need it.
+  EXPECT_EQ(a.reconstruct(a.decomposition(), kLevels).F, shuffledSurface().F);
+  // setApproximation builds it, with its options: without saturation exactly the
+  // selected coefficients are kept, with it more (and the same mesh).
+  ApproximationOptions exact;
+  exact.saturate = false;
+  a.setApproximation(exact);
+  const Approximation fewer = a.approximator().keepCount(50);
+  EXPECT_EQ(fewer.selected, 50);
+  EXPECT_EQ(fewer.kept, 50);
+  a.setApproximation({});
+  const Approximation more = a.approximator().keepCount(50);
+  EXPECT_EQ(more.selected, 50);
+  EXPECT_GT(more.kept, 50);
+  EXPECT_EQ(more.mesh.F, fewer.mesh.F);
+}
+
+TEST(AnalysedSurface, ErrorsOfLevelsOfDetail) {
+  const AnalysedSurface& a = analysed();
+  const Approximator& x = a.approximator();
+  DistanceOptions sampling;
+  sampling.samples = 5000;
+  // Everything kept: the full-resolution surface itself.
+  const Approximation all = x.keepFraction(1.0);
+  const LodErrors full = a.errors(all, sampling);
+  EXPECT_LT(full.l2, 1e-12);
+  EXPECT_LT(full.l2RmsRelative, 1e-12);
+  EXPECT_LT(full.rmsRelative, 1e-12);
+  EXPECT_LT(full.hausdorffRelative, 1e-12);
+  // A small budget: every error is positive, the largest deviation at least the RMS.
+  const Approximation small = x.budget(64);
+  EXPECT_LE(small.triangles(), 64);
+  const LodErrors e = a.errors(small, sampling);
+  EXPECT_GT(e.l2, 0.0);
+  EXPECT_GT(e.l2RmsRelative, 0.0);
+  EXPECT_GT(e.rmsRelative, 0.0);
+  EXPECT_GE(e.hausdorffRelative, e.rmsRelative);
+  EXPECT_EQ(e.l2, x.l2Error(small));
+  EXPECT_EQ(a.l2RmsRelative(small), e.l2RmsRelative);
+  // The parametric RMS over the base domain (8 faces of area 1), relative to the
+  // diagonal of the full-resolution surface.
+  EXPECT_NEAR(e.l2RmsRelative, e.l2 / std::sqrt(8.0) / boundingBoxDiagonal(x.fullResolution().V),
+              1e-15 * e.l2RmsRelative);
+}
+
+TEST(AnalysedSurface, KeepsWorkingWhenMoved) {
+  AnalysedSurface a(shuffledSurface());
+  const Approximation before = a.approximator().budget(200);
+  const double errorBefore = a.l2RmsRelative(before);
+  const TriMesh surface = a.reconstruct(a.decomposition(), kLevels);
+  // The approximator refers to the filter bank and the decomposition inside the
+  // object: a move must carry them along.
+  AnalysedSurface moved(std::move(a));
+  std::vector<AnalysedSurface> many;
+  many.push_back(std::move(moved));
+  many.emplace_back(shuffledSurface(), AnalysisOptions{}, "second");
+  many.emplace_back(many.front().decomposition(), true);  // grows: moves the first two
+  AnalysedSurface assigned = std::move(many.back());
+  assigned = std::move(many.front());
+  const Approximation after = assigned.approximator().budget(200);
+  EXPECT_EQ(after.mesh.F, before.mesh.F);
+  EXPECT_EQ(after.mesh.V, before.mesh.V);
+  EXPECT_EQ(assigned.reconstruct(assigned.decomposition(), kLevels).V, surface.V);
+  EXPECT_EQ(assigned.l2RmsRelative(after), errorBefore);
+}
+
+TEST(AnalysedSurface, ErrorsArePrefixedWithTheSource) {
+  // The base mesh itself has no levels; more levels than there are is refused.
+  expectContains(errorOf([] { AnalysedSurface(shapes::icosahedron(), {}, "ico.obj"); }),
+                 {"ico.obj: ", "no subdivision connectivity"});
+  AnalysisOptions tooDeep;
+  tooDeep.levels = kLevels + 1;
+  expectContains(errorOf([&] { AnalysedSurface(shuffledSurface(), tooDeep, "octahedron.ply"); }),
+                 {"octahedron.ply: ", "3 levels over a base of 6 vertices and 8 faces",
+                  "4 levels were asked for"});
+  // Fewer levels than there are: a coarser base, the rest as before.
+  AnalysisOptions two;
+  two.levels = 2;
+  const AnalysedSurface a(shuffledSurface(), two);
+  EXPECT_EQ(a.levels(), 2);
+  EXPECT_EQ(a.decomposition().baseFaces.rows(), 32);
+  const TriMesh input = shuffledSurface();
+  EXPECT_LT(maxDifference(a.reconstruct(a.decomposition(), 2).V, input.V),
+            1e-12 * boundingBoxDiagonal(input.V));
+}
+
+TEST(LoadSurface, RemeshesAnyManifoldMesh) {
+  // A torus of 27 x 13 vertices, every one moved at random: no subdivision
+  // connectivity (an odd grid is no split of a coarser one), and one vertex that no
+  // face uses, as scans have.
+  TriMesh input = shapes::torus(27, 13);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+  for (Eigen::Index v = 0; v < input.V.rows(); ++v)
+    input.V.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  const int n = static_cast<int>(input.V.rows()), faces = static_cast<int>(input.F.rows());
+  ASSERT_EQ(recoverSubdivision(input.F, n).levels, 0);
+  input.V.conservativeResize(n + 1, 3);
+  input.V.row(n) << 9, 9, 9;
+  TempDir dir;
+  const std::string path = dir.file("torus.obj");
+  writeMesh(path, input);
+  InputOptions options;
+  options.remesh = true;
+  options.remeshing.baseFaces = 40;
+  options.remeshing.levels = 3;
+  options.distance.samples = 5000;
+  const LoadedSurface s = loadSurface(path, options);
+  ASSERT_TRUE(s.remeshing.has_value());
+  const RemeshReport& r = *s.remeshing;
+  EXPECT_EQ(r.droppedVertices, 1);
+  EXPECT_EQ(r.inputVertices, n);
+  EXPECT_EQ(r.inputFaces, faces);
+  EXPECT_EQ(r.requestedBaseFaces, 40);
+  EXPECT_LT(r.distance.hausdorffRelative, kFarRemeshing);
+  // Warnings, if any, say what to change (in RemeshOptions terms) or why the base is
+  // larger than asked; a far result always gets one.
+  bool far = false;
+  for (const std::string& w : r.warnings) {
+    EXPECT_TRUE(w.find("RemeshOptions::") != std::string::npos || w.rfind("the base has", 0) == 0)
+        << w;
+    far = far || w.find("from the input at its farthest") != std::string::npos;
+  }
+  EXPECT_EQ(far, r.distance.hausdorffRelative > kFarRemeshing);
+  EXPECT_GE(r.seconds, 0.0);
+  // The loaded mesh is the remeshing: a valid mesh with subdivision connectivity of
+  // RemeshOptions::levels levels over the base.
+  EXPECT_EQ(s.mesh.V, r.result.mesh.V);
+  EXPECT_EQ(s.mesh.F, r.result.mesh.F);
+  EXPECT_NO_THROW(validate(s.mesh, "remeshed"));
+  EXPECT_EQ(topology(s.mesh), topology(input.F, n));
+  EXPECT_EQ(s.mesh.F.rows(), r.result.base.F.rows() << (2 * options.remeshing.levels));
+  AnalysisOptions analysis;
+  analysis.levels = options.remeshing.levels;
+  const AnalysedSurface a(s.mesh, analysis, path);
+  EXPECT_EQ(a.levels(), 3);
+  EXPECT_EQ(a.decomposition().baseFaces.rows(), r.result.base.F.rows());
+  EXPECT_LT(maxDifference(a.reconstruct(a.decomposition(), 3).V, s.mesh.V),
+            1e-12 * boundingBoxDiagonal(s.mesh.V));
+}
