@@ -216,7 +216,7 @@ LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions&
   e.l2 = x.l2Error(a);
   const double diagonal = boundingBoxDiagonal(x.fullResolution().V);
   const double rms = e.l2 / std::sqrt(static_cast<double>(decomposition().baseFaces.rows()));
-  e.l2RmsRelative = rms / diagonal;
+  e.l2RmsRelative = diagonal > 0 ? rms / diagonal : 0.0;
   const SurfaceDistance sd = surfaceDistance(a.mesh, x.fullResolution(), distance);
   e.rmsRelative = sd.rmsRelative;
   e.hausdorffRelative = sd.hausdorffRelative;

@@ -15,9 +15,10 @@ namespace osdmra {
 
 /// Calls `write` with a binary stream on a temporary file next to `path`, then
 /// replaces `path` with it. If `write` throws, or the stream fails, or the file
-/// cannot be created, synced or renamed, the temporary file is removed, `path` is
-/// untouched, and an Error that starts with `path` says what failed (an Error from
-/// `write` that does not name `path` gets it as a prefix).
+/// cannot be created, synced or renamed, the temporary file is removed and `path` is
+/// untouched. Failures of the file are an Error that starts with `path`; an Error
+/// from `write` that does not name `path` gets it as a prefix; any other exception
+/// from `write` passes through unchanged (after the clean-up).
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 /// A text file (an exact copy of `text`), written as above.

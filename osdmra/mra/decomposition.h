@@ -36,7 +36,8 @@ struct Decomposition {
   Points base;                  ///< c^0: n_0 x 3
   std::vector<Points> details;  ///< d^j for j = 0..J-1: (n_{j+1} - n_j) x 3
   /// Input vertex of each canonical level-J vertex (empty: the input was canonical).
-  /// synthesize() at level J writes vertices back in the input's order with it.
+  /// AnalysedSurface::reconstruct (pipeline.h) writes level-J vertices back in the
+  /// input's order with it.
   std::vector<int> inputOrder;
   /// The input's faces in its own order and numbering (empty: canonical faces).
   Faces inputFaces;

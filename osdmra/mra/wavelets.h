@@ -7,7 +7,8 @@
 // <psi^j_m, phi^j_k> = 0 for every k in S(m):
 //   lazy   S = {}                        psi = phi^{j+1}_m
 //   quasi  S = the r-ring of {a,b}       local support, linear time
-//   pre    S = every vertex of M^j       exactly orthogonal to V^j, dense
+//   pre    S = every vertex of M^j       exactly orthogonal to V^j, dense (stored
+//                                        without its exact zeros)
 //
 // The paper's quasi-wavelets "supported on k-discs" choose S as the vertices of the
 // k-disc around the new vertex; r rings around the parent edge {a,b} contain the
