@@ -42,9 +42,9 @@ std::vector<std::string> remeshWarnings(const RemeshReport& r) {
   const int baseFaces = static_cast<int>(x.base.F.rows());
   if (baseFaces > r.requestedBaseFaces)
     out.push_back("the base has " + std::to_string(baseFaces) + " faces, more than the " +
-                  std::to_string(r.requestedBaseFaces) +
-                  " asked for: no other vertex could go without changing the topology or "
-                  "flattening the tip of a protrusion");
+                  std::to_string(r.requestedBaseFaces) + " asked for: " +
+                  (x.baseSizeReason.empty() ? std::string("the simplification stopped early")
+                                            : x.baseSizeReason));
   if (r.distance.hausdorffRelative > kFarRemeshing) {
     char buf[360];
     std::snprintf(buf, sizeof buf,

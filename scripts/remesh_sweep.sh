@@ -1,27 +1,42 @@
 #!/bin/sh
-# The robustness table of docs/REMESH.md: remeshes the public scans of
-# ../shared/data/scans (or $SCANS) over 150, 300 and 600 base faces at J = 4 and 5 and
-# prints what is left of each (flipped, zero-area and crossing triangles) with the
-# distances and the time of remesh().
+# The robustness table of docs/REMESH.md: remeshes every mesh of ../shared/data/scans
+# (or $SCANS) over 150, 300 and 600 base faces at J = 4 and 5 and prints, for each, the
+# base size obtained, what is left (flipped, zero-area, crossing triangles), how much the
+# clean-up had to move, the distances to the input, whether genus, boundary loops and
+# components were kept, and the time of remesh().
 #
-#   scripts/remesh_sweep.sh [BUILD_DIR]   (default: build)
+#   scripts/remesh_sweep.sh [BUILD_DIR] [SIZES] [LEVELS]
+#   (defaults: build, "150 300 600", "4 5"; $MESHES: names to run, default all)
 set -eu
 build=${1:-build}
+sizes=${2:-150 300 600}
+levels=${3:-4 5}
 scans=${SCANS:-../shared/data/scans}
 out=$(mktemp /tmp/osdmra-sweep-XXXXXX.obj)
 trap 'rm -f "$out"' EXIT
-echo "| mesh | base faces asked | base faces | levels | flipped | zero-area | crossing pairs | RMS | Hausdorff | time (s) |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-for name in stanford-bunny spot rocker-arm fandisk; do
-  for n in 150 300 600; do
-    for J in 4 5; do
-      "$build/osdmra" remesh "$scans/$name.obj" --base-faces "$n" --levels "$J" -o "$out" --json |
-        python3 -c "
+echo "| mesh | input faces | base faces asked | base faces | J | flipped | zero-area | crossing pairs | clean-up moved | RMS | Hausdorff | topology kept | time (s) |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|"
+for path in "$scans"/*.obj "$scans"/*.off "$scans"/*.ply; do
+  [ -f "$path" ] || continue
+  name=$(basename "$path"); name=${name%.*}
+  if [ -n "${MESHES:-}" ] && ! echo " $MESHES " | grep -q " $name "; then continue; fi
+  if ! topo_in=$("$build/osdmra" info "$path" --json 2>/tmp/osdmra-sweep-err); then
+    echo "| $name | | | | | | | | | | | rejected: $(head -c 200 /tmp/osdmra-sweep-err | tr '|\n' '/ ') | |"
+    continue
+  fi
+  for n in $sizes; do
+    for J in $levels; do
+      json=$("$build/osdmra" remesh "$path" --base-faces "$n" --levels "$J" -o "$out" --json)
+      topo_out=$("$build/osdmra" info "$out" --json)
+      python3 -c "
 import json, sys
-j = json.load(sys.stdin)
-print(f\"| $name | $n | {j['base_faces']} | $J | {j['flipped_triangles']} | {j['degenerate_triangles']} | \"
-      f\"{j['self_intersections']} | {100*j['rms_relative']:.4f}% | {100*j['hausdorff_relative']:.3f}% | \"
-      f\"{j['seconds']:.2f} |\")"
+j = json.loads(sys.argv[1]); a = json.loads(sys.argv[2])['mesh']; b = json.loads(sys.argv[3])['mesh']
+keys = ('genus', 'boundary_loops', 'components')
+kept = 'yes' if all(a[k] == b[k] for k in keys) else 'NO (' + ', '.join(f'{k} {a[k]}->{b[k]}' for k in keys if a[k] != b[k]) + ')'
+c = j['clean_up']
+print(f\"| $name | {j['input_faces']} | $n | {j['base_faces']} | $J | {j['flipped_triangles']} | {j['degenerate_triangles']} | \"
+      f\"{j['self_intersections']} | {c['moved_points']} | {100*j['rms_relative']:.4f}% | {100*j['hausdorff_relative']:.3f}% | {kept} | \"
+      f\"{j['seconds']:.2f} |\")" "$json" "$topo_in" "$topo_out"
     done
   done
 done

@@ -1,45 +1,19 @@
 // Remeshing: any manifold triangle mesh to a mesh with subdivision connectivity, in
-// the spirit of MAPS (Lee, Sweldens, Schroder, Cowsar and Dobkin 1998).
+// the spirit of MAPS (Lee, Sweldens, Schroder, Cowsar and Dobkin 1998). The driver,
+// remesh(), reads as the algorithm; each stage has its own file and tests:
 //
-// 1. Simplification with a parameterisation. Vertices are removed in rounds of
-//    independent sets, least important first (small one-ring area and curvature).
-//    Each removal flattens the vertex's one-ring conformally (the z^a map: angles
-//    scaled to sum to 2 pi, or pi on each side of a boundary or a feature line),
-//    retriangulates the flat polygon, and moves every input vertex that lived in the
-//    removed faces (and the removed vertex itself) to its barycentric place in the
-//    new faces. A removal that would create an edge the mesh already has is skipped,
-//    so genus, boundary loops and components are kept. Feature edges (dihedral angle
-//    above a threshold) are kept as edges: a vertex on a feature line is removed as
-//    two half-disks whose retriangulations share the edge between its two feature
-//    neighbours; corners of features (where lines meet or turn sharply) and sharp
-//    turns of boundaries are never removed, and a scan's folds (triangles facing
-//    against their corners' normals) go first. The result is a base mesh M^0 of
-//    about the requested size, every input vertex at a point of it.
-// 2. Resampling. Each base face is split J times (a regular grid of 2^J segments per
-//    edge); every grid point is located in the parameterised input (an input
-//    triangle whose parameter image contains it) and placed at the corresponding
-//    point of the input surface. Input triangles are laid out in the chart of their
-//    base face when their corners all lie in it, else in the chart of the base edge
-//    they straddle (its two faces unfolded, isometric to both face charts, so there
-//    is no crack along base edges), else in the chart of a base vertex they surround.
-//    Grid points on feature and boundary base edges are sampled along the input's
-//    line itself (the chain of input feature or boundary edges the base edge stands
-//    for), at their parameter along the edge.
-// 3. Clean-up. Where the parameterisation folds (composed flattenings bend a large
-//    input triangle; a base vertex's neighbours end up on one side of it), output
-//    triangles come out flipped (facing against the input's normals where their
-//    corners were sampled), of zero area, or crossing others. Three stages repair
-//    them: free grid points around them go to the input point nearest their
-//    neighbours' centroid; disks around what is left are resampled from their tangent
-//    plane (Tutte's embedding, lifted back onto the input); then points go one at a
-//    time to where the worst of their triangles is best (Freitag and Plassmann's
-//    untangling, on the surface), points on feature lines and boundaries sliding
-//    along them. The last two keep a move only if it makes nothing worse nearby. As a
-//    last resort, base faces still defective relax as a whole (each free point walks
-//    along the surface towards its neighbours' centroid) and the repairs run again,
-//    kept if fewer defects remain and the relaxed faces come no farther from the
-//    input. remesh() reports what remains (none on the scans of docs/REMESH.md at
-//    the defaults, nor at most other sizes; listed there).
+// 1. Features (features.h): feature lines, corners of lines and boundaries, folds.
+// 2. Simplification with a parameterisation (simplify.h): vertices removed in rounds
+//    of independent sets, each removal's one-ring flattened and retriangulated so that
+//    the old faces map onto the new ones bijectively, checked for every removal
+//    (removal.h), with the distortion of the input inside each new face bounded
+//    (distortion.h); the bounds relax in stages only when nothing else can go. Every
+//    input vertex keeps its place on the simplified mesh. The result is a base mesh
+//    M^0 of about the requested size. Genus, boundary loops and components are kept.
+// 3. Resampling (resample.h): each base face split J times, every grid point placed on
+//    the input through the parameterisation.
+// 4. Clean-up (cleanup.h), a safety net for what sampling still folds; remesh()
+//    reports how much of it ran.
 //
 // The output has subdivision connectivity in its own vertex and face order: the
 // rest of osdmra recovers its structure (recovery.h).
@@ -47,8 +21,8 @@
 
 #include <string>
 
-#include "osdmra/mesh/mesh.h"
 #include "osdmra/base/progress.h"
+#include "osdmra/mesh/mesh.h"
 
 namespace osdmra {
 
@@ -73,9 +47,14 @@ struct Remeshing {
   /// clean-up moved (to another point of the input).
   TriMesh base;
   int featureEdges = 0;  ///< input edges taken as features
-  /// Grid points whose parameter fell outside every input triangle image and were
-  /// snapped to the nearest one (a measure of parameterisation trouble; 0 is ideal).
-  int snappedSamples = 0;
+  /// Why the base has more faces than asked (empty when it has not).
+  std::string baseSizeReason;
+  /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)
+  /// that it needed.
+  int simplificationRounds = 0, simplificationStage = 0;
+  /// How much the clean-up ran: flipped and zero-area triangles it found, points it
+  /// moved, base faces it relaxed as a whole. 0, 0, 0 when sampling folded nothing.
+  int cleanupDefectsBefore = 0, cleanupMovedPoints = 0, cleanupRelaxedFaces = 0;
   /// Triangles of `mesh` left flipped (facing against the input where they lie) or
   /// of zero area after the clean-up pass; 0 is the goal (see remesh()).
   int flippedTriangles = 0, degenerateTriangles = 0;

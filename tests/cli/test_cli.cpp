@@ -235,7 +235,7 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   // An unreferenced vertex is dropped, not refused.
   { std::ofstream(path("t3.obj"), std::ios::app) << "v 9 9 9\n"; }
   const Result r =
-      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 3 --json -o " + path("r.ply"));
+      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 4 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* key :
        {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",

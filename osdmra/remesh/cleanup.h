@@ -1,0 +1,29 @@
+// Step 3 of remesh.h, a safety net: where sampling the parameterisation still folds,
+// output triangles come out flipped (facing against the input's normals where their
+// corners were sampled), of zero area, or crossing others. Free grid points around
+// them go to the input point nearest their neighbours' centroid; disks around what is
+// left are resampled from their tangent plane (Tutte's embedding, lifted back onto the
+// input); then points go one at a time to where the worst of their triangles is best
+// (Freitag and Plassmann's untangling, on the surface), points on feature lines and
+// boundaries sliding along them. As a last resort, base faces still defective relax
+// as a whole (each free point walks along the surface towards its neighbours'
+// centroid), kept if fewer defects remain and the relaxed faces come no farther from
+// the input. Remeshing reports how much of it ran.
+#pragma once
+
+#include <vector>
+
+#include "osdmra/base/progress.h"
+#include "osdmra/geometry/surface_walk.h"
+#include "osdmra/remesh/remesh.h"
+
+namespace osdmra::remeshing {
+
+/// Repairs out.mesh (M^J over out.base, sampled from `input`; `where` its vertices'
+/// places on the input, kept up to date; `free` and `line` as in resample.h) and sets
+/// the defect counts and the clean-up's own of `out`.
+void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
+             const std::vector<long long>& line, std::vector<SurfacePoint>& where,
+             const SurfaceWalker& walker, const Progress& progress = {});
+
+}  // namespace osdmra::remeshing

@@ -1,0 +1,34 @@
+#include "osdmra/remesh/distortion.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+
+namespace osdmra::remeshing {
+
+std::array<Vec2, 3> layFlat(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const double len = e1.norm();
+  if (!(len > 0)) return {Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+  const double x = e2.dot(e1) / len, y = e1.cross(e2).norm() / len;
+  return {Vec2::Zero(), Vec2(len, 0), Vec2(x, y)};
+}
+
+double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::array<Vec2, 3> src = layFlat(from[0], from[1], from[2]);
+  Eigen::Matrix2d S, T;
+  S << src[1] - src[0], src[2] - src[0];
+  T << to[1] - to[0], to[2] - to[0];
+  const double detS = S.determinant(), detT = T.determinant();
+  if (!(detS > 0) || !(detT > 0)) return kInf;
+  // J = T S^-1; its singular values from the 2x2 closed form.
+  const Eigen::Matrix2d J = T * S.inverse();
+  const double frob2 = J.squaredNorm(), det = std::abs(J.determinant());
+  const double disc = std::sqrt(std::max(0.0, frob2 * frob2 - 4 * det * det));
+  const double s1 = std::sqrt(0.5 * (frob2 + disc));
+  const double s2 = det / s1;  // not sqrt(frob2 - disc): that cancels when s1 >> s2
+  return s2 > 0 ? s1 / s2 : kInf;
+}
+
+}  // namespace osdmra::remeshing

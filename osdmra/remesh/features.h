@@ -1,0 +1,52 @@
+// What the simplification must keep of the input (step 1 of remesh.h): feature
+// lines, the corners of lines and boundaries, and a scan's folds (which it removes
+// first).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_set>
+#include <vector>
+
+#include "osdmra/mesh/mesh.h"
+
+namespace osdmra::remeshing {
+
+struct Features {
+  /// Feature edges (edgeKey of their vertices): dihedral angle above the threshold,
+  /// in chains of at least kMinChain edges or closed loops, folds excluded.
+  std::unordered_set<std::uint64_t> edges;
+  std::vector<std::array<int, 2>> list;  ///< the same edges as vertex pairs
+  /// Vertices where a feature line or a boundary turns by more than kMaxTurn: they
+  /// stay in the base mesh, else a base edge would cut the corner.
+  std::vector<char> corner;
+  /// Corners of fold triangles (facing against their own corners' area-weighted
+  /// normals: a sliver turned over onto its neighbour). Noise: removed first.
+  std::vector<char> fold;
+};
+
+/// Scans carry sharp-looking noise: single edges and short chains of feature edges.
+constexpr int kMinChain = 4;
+/// Largest turn of a feature line or a boundary at a removable vertex, in degrees.
+constexpr double kMaxTurn = 40.0;
+
+/// The features of a valid mesh at `featureAngle` degrees (180: none).
+Features detectFeatures(const TriMesh& mesh, double featureAngle);
+
+/// The vertices of a line (`along[v]`: v's neighbours on it) from `from` through
+/// `next`, on through vertices with exactly two neighbours, up to one that `stops`,
+/// has another number of neighbours, or is `from` again (a closed loop). It cannot
+/// run in circles: a loop of two-neighbour vertices has no way in but from one of
+/// them.
+template <class Stops>
+std::vector<int> followLine(const std::vector<std::vector<int>>& along, int from, int next,
+                            const Stops& stops) {
+  std::vector<int> chain{from, next};
+  while (chain.back() != from && along[chain.back()].size() == 2 && !stops(chain.back())) {
+    const std::vector<int>& two = along[chain.back()];
+    chain.push_back(two[0] == chain[chain.size() - 2] ? two[1] : two[0]);
+  }
+  return chain;
+}
+
+}  // namespace osdmra::remeshing

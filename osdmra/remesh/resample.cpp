@@ -1,0 +1,251 @@
+#include "osdmra/remesh/resample.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "osdmra/remesh/planar.h"
+
+namespace osdmra::remeshing {
+
+namespace {
+
+// A parameter on an edge or at a corner of its base face also lies in the faces that
+// share that edge or corner: the same point in face g's corner order, if so.
+bool expressIn(const TriMesh& base, const Param& p, int g, std::array<double, 3>& bary) {
+  if (p.face == g) {
+    bary = p.bary;
+    return true;
+  }
+  bary = {0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    if (p.bary[i] == 0) continue;
+    int k = 0;
+    while (k < 3 && base.F(g, k) != base.F(p.face, i)) ++k;
+    if (k == 3) return false;
+    bary[k] = p.bary[i];
+  }
+  return true;
+}
+
+// The input's line under a base edge: its vertices, each with its parameter along the
+// edge (0 at the first, 1 at the last, increasing).
+struct Line {
+  std::vector<int> vertices;
+  std::vector<double> t;
+};
+
+class Resampler {
+ public:
+  Resampler(const TriMesh& input, const Connectivity& inputConn,
+            const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s)
+      : input_(input),
+        inputConn_(inputConn),
+        s_(s),
+        base_(s.base),
+        baseConn_(s.base.F, static_cast<int>(s.base.V.rows())) {
+    inputOf_.resize(base_.V.rows());
+    for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
+      if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
+    alongFeature_.resize(input.V.rows());
+    alongBoundary_.resize(input.V.rows());
+    for (const auto& [a, b] : inputFeatures) {
+      alongFeature_[a].push_back(b);
+      alongFeature_[b].push_back(a);
+    }
+    for (int e = 0; e < inputConn.numEdges(); ++e)
+      if (inputConn.isBoundaryEdge(e)) {
+        const auto [a, b] = inputConn.edgeVertices(e);
+        alongBoundary_[a].push_back(b);
+        alongBoundary_[b].push_back(a);
+      }
+  }
+
+  Resampled run(int levels, const Progress& progress);
+
+ private:
+  bool isBoundaryEdge(int p, int q) const {
+    const int e = baseConn_.findEdge(p, q);
+    return e >= 0 && baseConn_.isBoundaryEdge(e);
+  }
+  bool featureEdge(int p, int q) const {
+    return s_.featureEdges.count(edgeKey(inputOf_[p], inputOf_[q])) != 0;
+  }
+  Vec3 sample(int f, const std::array<double, 3>& b);
+  Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
+  Vec3 sampleLine(const Line& path, double at);
+  int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
+  void gridOfFace(int f);
+
+  const TriMesh& input_;
+  const Connectivity& inputConn_;
+  const Simplification& s_;
+  const TriMesh& base_;
+  const Connectivity baseConn_;
+  std::vector<int> inputOf_;  // base vertex -> input vertex
+  std::vector<std::vector<int>> alongFeature_, alongBoundary_;
+  // The output under construction.
+  int N_ = 1;
+  std::unordered_map<std::uint64_t, int> edgePoints_;
+  std::unordered_map<long long, Line> lines_;  // by base edge p * nbv + q, p < q
+  std::vector<Vec3> positions_;
+  std::vector<std::array<int, 3>> faces_;
+  Resampled out_;
+};
+
+// The point b of base face f on the input: the parameterisation's exact inverse
+// (traceToInput), so that grid points fall in no crack between input triangles.
+Vec3 Resampler::sample(int f, const std::array<double, 3>& b) {
+  const SurfacePoint at = traceToInput(s_.history, f, b);
+  out_.where.push_back(at);
+  Vec3 p = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) p += at.bary[i] * input_.V.row(input_.F(at.triangle, i)).transpose();
+  return p;
+}
+
+// The input's line under base edge (p, q) as seen from base face f; none if there is
+// no such chain or its parameters are out of order (the points are then located like
+// the others). Locating such points through the charts can land on the far side of a
+// sharp corner of the line, where a vertex chart's triangles overlap the edge.
+Line Resampler::lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const {
+  const int from = inputOf_[p], to = inputOf_[q];
+  Line path;
+  std::vector<int>& chain = path.vertices;
+  for (int first : along[from]) {
+    chain = followLine(along, from, first, [&](int v) { return s_.baseOf[v] >= 0; });
+    if (chain.back() == to) break;
+    chain.clear();
+  }
+  if (chain.empty()) return path;
+  int ip = 0, iq = 0;
+  while (base_.F(f, ip) != p) ++ip;
+  while (base_.F(f, iq) != q) ++iq;
+  path.t.push_back(0);
+  for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
+    std::array<double, 3> b;
+    if (!expressIn(base_, s_.params[chain[i]], f, b) || !(b[ip] + b[iq] > 0) ||
+        !(b[iq] / (b[ip] + b[iq]) > path.t.back()))
+      return Line();
+    path.t.push_back(b[iq] / (b[ip] + b[iq]));
+  }
+  if (!(path.t.back() < 1)) return Line();
+  path.t.push_back(1);
+  return path;
+}
+
+// The point at parameter `at` along a path, on the input edge whose ends bracket it.
+Vec3 Resampler::sampleLine(const Line& path, double at) {
+  std::size_t i = 0;
+  while (i + 2 < path.vertices.size() && path.t[i + 1] < at) ++i;
+  const double u = std::clamp((at - path.t[i]) / (path.t[i + 1] - path.t[i]), 0.0, 1.0);
+  const int a = path.vertices[i], b = path.vertices[i + 1];
+  const int tri = inputConn_.edgeHalfedge(inputConn_.findEdge(a, b)) / 3;
+  SurfacePoint w{tri, {0, 0, 0}};
+  for (int k = 0; k < 3; ++k) {
+    if (input_.F(tri, k) == a) w.bary[k] = 1 - u;
+    if (input_.F(tri, k) == b) w.bary[k] = u;
+  }
+  out_.where.push_back(w);
+  return Vec3((1 - u) * input_.V.row(a).transpose() + u * input_.V.row(b).transpose());
+}
+
+// The grid point at `step` of N along base edge (p, q), p < q, shared with the face on
+// the other side through a key on the undirected edge. Points on feature and boundary
+// edges are not free to move in the clean-up.
+int Resampler::edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary) {
+  const long long nbv = base_.V.rows();
+  const std::uint64_t key = (static_cast<std::uint64_t>(p) * nbv + q) * (N_ + 1) + step;
+  auto [it, fresh] = edgePoints_.emplace(key, static_cast<int>(positions_.size()));
+  if (!fresh) return it->second;
+  const long long edge = static_cast<long long>(p) * nbv + q;
+  const bool feature = featureEdge(p, q), boundary = isBoundaryEdge(p, q);
+  const Line* under = nullptr;
+  if (feature || boundary) {
+    auto [known, first] = lines_.try_emplace(edge);
+    if (first) known->second = lineUnder(f, p, q, boundary ? alongBoundary_ : alongFeature_);
+    if (!known->second.vertices.empty()) under = &known->second;
+  }
+  positions_.push_back(under ? sampleLine(*under, double(step) / N_) : sample(f, bary));
+  out_.free.resize(positions_.size(), 0);
+  out_.free.back() = !feature && !boundary;
+  out_.line.resize(positions_.size(), -1);
+  out_.line.back() = edge;
+  return it->second;
+}
+
+// The grid of base face f, J times split: corners are base vertices, edge points are
+// shared with the neighbours.
+void Resampler::gridOfFace(int f) {
+  const int N = N_;
+  const int a = base_.F(f, 0), b = base_.F(f, 1), c = base_.F(f, 2);
+  std::vector<int> id((N + 1) * (N + 1), -1);
+  auto at = [&](int i, int j) -> int& { return id[i * (N + 1) + j]; };
+  for (int i = 0; i <= N; ++i)
+    for (int j = 0; i + j <= N; ++j) {
+      const std::array<double, 3> bary{double(N - i - j) / N, double(i) / N, double(j) / N};
+      int& slot = at(i, j);
+      if (i + j == 0) {
+        slot = a;
+      } else if (i == N) {
+        slot = b;
+      } else if (j == N) {
+        slot = c;
+      } else if (j == 0 || i == 0 || i + j == N) {
+        int p = j == 0 ? a : i == 0 ? a : b, q = j == 0 ? b : c, step = j == 0 ? i : j;
+        if (p > q) std::swap(p, q), step = N - step;
+        slot = edgePoint(f, p, q, step, bary);
+      } else {
+        slot = static_cast<int>(positions_.size());
+        positions_.push_back(sample(f, bary));
+        out_.free.resize(positions_.size(), 0);
+        out_.free.back() = 1;
+      }
+    }
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; i + j < N; ++j) {
+      faces_.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+      if (i + j + 1 < N) faces_.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
+Resampled Resampler::run(int levels, const Progress& progress) {
+  N_ = 1 << levels;
+  const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
+  // Base vertices are input vertices: a corner of any of their input triangles.
+  out_.where.assign(nbv, SurfacePoint());
+  for (Eigen::Index t = 0; t < input_.F.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int b = s_.baseOf[input_.F(t, k)];
+      if (b >= 0) {
+        out_.where[b].triangle = static_cast<int>(t);
+        out_.where[b].bary = {0, 0, 0};
+        out_.where[b].bary[k] = 1;
+      }
+    }
+  for (int v = 0; v < nbv; ++v) positions_.push_back(base_.V.row(v).transpose());
+  for (int f = 0; f < nb; ++f) {
+    if (progress && f % 16 == 0) progress("resample", double(f) / nb);
+    gridOfFace(f);
+  }
+  if (progress) progress("resample", 1.0);
+  out_.mesh.V.resize(static_cast<Eigen::Index>(positions_.size()), 3);
+  for (std::size_t v = 0; v < positions_.size(); ++v)
+    out_.mesh.V.row(v) = positions_[v].transpose();
+  out_.mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    for (int k = 0; k < 3; ++k) out_.mesh.F(f, k) = faces_[f][k];
+  out_.free.resize(positions_.size(), 0);
+  out_.line.resize(positions_.size(), -1);
+  return std::move(out_);
+}
+
+}  // namespace
+
+Resampled resample(const TriMesh& input, const Connectivity& inputConn,
+                   const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
+                   int levels, const Progress& progress) {
+  Resampler r(input, inputConn, inputFeatures, s);
+  return r.run(levels, progress);
+}
+
+}  // namespace osdmra::remeshing

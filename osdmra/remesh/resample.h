@@ -1,0 +1,36 @@
+// Step 2 of remesh.h: the base mesh's faces split J times, every grid point placed on
+// the input through the parameterisation the simplification tracked.
+//
+// Every grid point is mapped to the input by the parameterisation's exact inverse
+// (simplify.h's traceToInput: the removals undone one by one, each a piecewise-linear
+// bijection), so the samples follow the bijection with no crack between charts. Grid
+// points on feature and boundary base edges are sampled along the input's line itself
+// (the chain of input feature or boundary edges the base edge stands for), at their
+// parameter along it.
+#pragma once
+
+#include <vector>
+
+#include "osdmra/base/progress.h"
+#include "osdmra/geometry/surface_walk.h"
+#include "osdmra/mesh/connectivity.h"
+#include "osdmra/remesh/simplify.h"
+
+namespace osdmra::remeshing {
+
+struct Resampled {
+  /// M^levels over the base: the base vertices first, then the grid points, faces
+  /// base face by base face (4^levels each, in grid order).
+  TriMesh mesh;
+  std::vector<SurfacePoint> where;  ///< each vertex's place on the input
+  std::vector<char> free;           ///< grid points not on a base vertex, feature or boundary
+  std::vector<long long> line;      ///< for points on base edges: the edge; -1 elsewhere
+};
+
+/// Resamples the simplification of `input` (whose connectivity is `inputConn` and
+/// feature edges `inputFeatures`) at `levels` rounds of 1-to-4 splitting.
+Resampled resample(const TriMesh& input, const Connectivity& inputConn,
+                   const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
+                   int levels, const Progress& progress = {});
+
+}  // namespace osdmra::remeshing

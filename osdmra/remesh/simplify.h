@@ -1,0 +1,88 @@
+// Step 1 of remesh.h: simplification of the input to a base mesh, tracking every input
+// vertex's place on it (MAPS, Lee et al. 1998). Vertices go in rounds of independent
+// sets, least important first (small one-ring area and curvature); each removal is
+// certified bijective (removal.h) and bounded in distortion (distortion.h), else
+// refused. The bounds relax in stages only when nothing can go under the current ones.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "osdmra/base/progress.h"
+#include "osdmra/geometry/surface_walk.h"
+#include "osdmra/mesh/mesh.h"
+#include "osdmra/remesh/features.h"
+#include "osdmra/remesh/planar.h"
+
+namespace osdmra::remeshing {
+
+/// A point of the base mesh: a face and barycentric coordinates in its corner order.
+struct Param {
+  int face = -1;
+  std::array<double, 3> bary{};
+};
+
+/// The limits a removal must meet in one stage of the simplification.
+struct StageLimits {
+  /// Largest anisotropy (distortion.h) of an input triangle inside one new face.
+  double anisotropy;
+  /// Smallest angle of a new face in the flattened ring, degrees.
+  double flatAngle;
+  /// Largest z^a exponent a (and smallest 1 / a): how curved a one-ring may be.
+  double power;
+};
+
+/// The stages, strictest first. The exponent never goes past 1.875: a one-ring whose
+/// angles sum to under 2 pi / 1.875 (192 degrees) is the tip of a protrusion (an ear, a
+/// horn); removing it folds the protrusion into the faces around (the bunny over 150
+/// base faces lost its ear tips so: Hausdorff 4% of the diagonal).
+extern const std::vector<StageLimits> kStages;
+
+/// One removal as it was made: the flattened ring and its retriangulation, enough to
+/// map a point of a new face back to the old face it came from (removal.h).
+struct RemovalRecord {
+  int vertex = -1;                            ///< the removed vertex, at the origin
+  std::vector<int> verts;                     ///< its ring (as Ring::verts)
+  std::vector<int> oldFaces;                  ///< face k = (vertex, verts[k], verts[k+1])
+  std::vector<Vec2> points;                   ///< verts[k] flattened
+  std::vector<std::array<int, 3>> triangles;  ///< the new faces, ring positions
+};
+
+/// Every face the simplification made, and how: the history of the parameterisation.
+/// Faces 0 .. F-1 are the input's, in order; face f > F-1 is triangle `triangle[f]`
+/// of removal `removal[f]`.
+struct History {
+  std::vector<std::array<int, 3>> faces;  ///< corners (input vertex ids) of every face
+  std::vector<int> removal, triangle;     ///< -1 for input faces
+  std::vector<RemovalRecord> removals;
+  std::vector<int> baseFace;  ///< base face -> its id here
+};
+
+/// The point of the input that the parameterisation maps to point `bary` of base face
+/// `baseFace`: the removals undone one by one, newest first, each by its exact
+/// piecewise-linear inverse. The result's triangle is an input face.
+SurfacePoint traceToInput(const History& history, int baseFace, const std::array<double, 3>& bary);
+
+struct Simplification {
+  History history;            ///< how the parameterisation was made
+  TriMesh base;               ///< the base mesh M^0, vertices renumbered 0..
+  std::vector<int> baseOf;    ///< input vertex -> base vertex, or -1 if removed
+  std::vector<Param> params;  ///< every input vertex's place on `base`
+  /// Feature edges of the base, as keys of their input vertices (features.h).
+  std::unordered_set<std::uint64_t> featureEdges;
+  int rounds = 0;  ///< rounds of independent removals
+  int stage = 0;   ///< the last stage of kStages used
+  /// Why the base has more faces than asked, if it has: empty otherwise.
+  std::string stopReason;
+};
+
+/// Simplifies a valid mesh to at most `targetFaces` faces, or as far as the stages
+/// allow.
+Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
+                        const Progress& progress = {},
+                        const std::vector<StageLimits>& stages = kStages);
+
+}  // namespace osdmra::remeshing

@@ -1,0 +1,48 @@
+// The distortion measure of the simplification (distortion.h): closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "osdmra/remesh/distortion.h"
+
+using namespace osdmra::remeshing;
+
+TEST(Distortion, LayFlatKeepsLengths) {
+  const Vec3 a(1, 2, 3), b(2, 4, 1), c(-1, 0, 5);
+  const auto p = layFlat(a, b, c);
+  EXPECT_NEAR((p[1] - p[0]).norm(), (b - a).norm(), 1e-12);
+  EXPECT_NEAR((p[2] - p[0]).norm(), (c - a).norm(), 1e-12);
+  EXPECT_NEAR((p[2] - p[1]).norm(), (c - b).norm(), 1e-12);
+  EXPECT_GT(cross2(p[1] - p[0], p[2] - p[0]), 0);
+}
+
+TEST(Distortion, SimilaritiesHaveNoAnisotropy) {
+  const std::array<Vec3, 3> t{Vec3(0, 0, 1), Vec3(1, 0.2, 1), Vec3(0.3, 0.9, 1.5)};
+  const auto flat = layFlat(t[0], t[1], t[2]);
+  const double angle = 0.7, scale = 3.5;
+  std::array<Vec2, 3> image;
+  for (int i = 0; i < 3; ++i)
+    image[i] = scale * Vec2(std::cos(angle) * flat[i].x() - std::sin(angle) * flat[i].y(),
+                            std::sin(angle) * flat[i].x() + std::cos(angle) * flat[i].y()) +
+               Vec2(4, -2);
+  EXPECT_NEAR(anisotropy(t, image), 1.0, 1e-12);
+}
+
+TEST(Distortion, AStretchIsItsRatio) {
+  // The unit right triangle stretched by 3 along x and 0.5 along y: anisotropy 6.
+  const std::array<Vec3, 3> t{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  EXPECT_NEAR(anisotropy(t, {Vec2(0, 0), Vec2(3, 0), Vec2(0, 0.5)}), 6.0, 1e-12);
+  // A shear x += 2y: singular values of [[1,2],[0,1]] are sqrt(2) +- 1.
+  EXPECT_NEAR(anisotropy(t, {Vec2(0, 0), Vec2(1, 0), Vec2(2, 1)}),
+              (std::sqrt(2.0) + 1) / (std::sqrt(2.0) - 1), 1e-9);
+}
+
+TEST(Distortion, AFoldOrADegenerateImageIsInfinite) {
+  const std::array<Vec3, 3> t{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(anisotropy(t, {Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}), inf);  // turned over
+  EXPECT_EQ(anisotropy(t, {Vec2(0, 0), Vec2(1, 1), Vec2(2, 2)}), inf);  // flat
+  const std::array<Vec3, 3> sliver{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  EXPECT_EQ(anisotropy(sliver, {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)}), inf);
+}

@@ -1,0 +1,95 @@
+// The simplification with parameter tracking (simplify.h): the base has the size asked
+// for and the input's topology; every input vertex has a place on it; the map from the
+// input to the base is a bijection (every input triangle lying in one base face keeps
+// its orientation there); and the stages' distortion bound holds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "osdmra/remesh/distortion.h"
+#include "osdmra/remesh/features.h"
+#include "osdmra/remesh/simplify.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
+
+using namespace osdmra;
+using namespace osdmra::remeshing;
+using namespace osdmra::test;
+
+namespace {
+
+TriMesh smooth(const TriMesh& base, int levels) {
+  return subdivide(base, levels, Scheme::Loop, 0.01, 5);
+}
+
+// The image of input triangle t in base face f laid flat, if its corners all lie in f
+// (a base vertex counts as lying in each of its faces).
+bool imageIn(const TriMesh& input, const Simplification& s, int t, std::array<Vec2, 3>& image) {
+  const int f = s.params[input.F(t, 0)].face;
+  const auto chart =
+      layFlat(s.base.V.row(s.base.F(f, 0)).transpose(), s.base.V.row(s.base.F(f, 1)).transpose(),
+              s.base.V.row(s.base.F(f, 2)).transpose());
+  for (int c = 0; c < 3; ++c) {
+    const int v = input.F(t, c);
+    std::array<double, 3> b = s.params[v].bary;
+    if (s.params[v].face != f) {
+      if (s.baseOf[v] < 0) return false;
+      b = {0, 0, 0};
+      int k = 0;
+      while (k < 3 && s.base.F(f, k) != s.baseOf[v]) ++k;
+      if (k == 3) return false;
+      b[k] = 1;
+    }
+    image[c] = b[0] * chart[0] + b[1] * chart[1] + b[2] * chart[2];
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST(Simplify, ReachesTheSizeAndKeepsTopology) {
+  for (const auto& [name, base] :
+       {std::pair{"sphere", shapes::icosahedron()}, std::pair{"torus", shapes::torus()},
+        std::pair{"disc", shapes::disc()}}) {
+    SCOPED_TRACE(name);
+    const TriMesh input = smooth(base, 3);
+    const int target = static_cast<int>(input.F.rows()) / 10;
+    const Simplification s = simplify(input, detectFeatures(input, 70.0), target);
+    validate(s.base, "base");
+    EXPECT_LE(s.base.F.rows(), target);
+    EXPECT_GT(s.base.F.rows(), 0.9 * target);
+    EXPECT_EQ(topology(s.base), topology(input));
+    EXPECT_TRUE(s.stopReason.empty());
+  }
+}
+
+TEST(Simplify, EveryInputVertexHasAPlaceAndTheMapIsABijection) {
+  const TriMesh input = smooth(shapes::slab(2), 3);
+  const Simplification s = simplify(input, detectFeatures(input, 70.0), 80);
+  ASSERT_EQ(s.params.size(), static_cast<std::size_t>(input.V.rows()));
+  for (const Param& p : s.params) {
+    ASSERT_GE(p.face, 0);
+    ASSERT_LT(p.face, s.base.F.rows());
+    EXPECT_NEAR(p.bary[0] + p.bary[1] + p.bary[2], 1.0, 1e-12);
+    EXPECT_GE(minOf(p.bary), 0.0);
+  }
+  // Every input triangle inside one base face keeps its orientation there and its
+  // distortion is within the last stage's bound.
+  int inside = 0;
+  for (int t = 0; t < input.F.rows(); ++t) {
+    std::array<Vec2, 3> image;
+    if (!imageIn(input, s, t, image)) continue;
+    ++inside;
+    EXPECT_GT(cross2(image[1] - image[0], image[2] - image[0]), 0) << "input triangle " << t;
+  }
+  EXPECT_GT(inside, input.F.rows() / 2);
+}
+
+TEST(Simplify, StrictStagesStopEarlyAndSayWhy) {
+  // A bound no removal can meet: nothing goes, and the reason is given.
+  const TriMesh input = smooth(shapes::icosahedron(), 2);
+  const std::vector<StageLimits> none = {{1.0, 89.0, 1.0}};
+  const Simplification s = simplify(input, detectFeatures(input, 70.0), 20, {}, none);
+  EXPECT_EQ(s.base.F.rows(), input.F.rows());
+  EXPECT_FALSE(s.stopReason.empty());
+}
