@@ -32,14 +32,18 @@ Sampled sampledSphere() {
   return x;
 }
 
+// The remeshed surface as resampling leaves it, before the clean-up.
+Remeshing resampled(const Sampled& x) {
+  Remeshing out = resampled(x);
+  return out;
+}
+
 }  // namespace
 
 TEST(Cleanup, MovesNothingOnACleanSampling) {
   Sampled x = sampledSphere();
   const SurfaceWalker walker(x.input, x.features.list);
-  Remeshing out;
-  out.base = x.s.base;
-  out.mesh = x.grid.mesh;
+  Remeshing out = resampled(x);
   cleanUp(out, x.input, x.grid.free, x.grid.line, x.grid.where, walker);
   EXPECT_EQ(out.cleanupDefectsBefore, 0);
   EXPECT_EQ(out.cleanupMovedPoints, 0);
@@ -49,9 +53,7 @@ TEST(Cleanup, MovesNothingOnACleanSampling) {
 TEST(Cleanup, RepairsAFoldAndSaysSo) {
   Sampled x = sampledSphere();
   const SurfaceWalker walker(x.input, x.features.list);
-  Remeshing out;
-  out.base = x.s.base;
-  out.mesh = x.grid.mesh;
+  Remeshing out = resampled(x);
   // A free grid point dragged across one of its neighbours, half an edge beyond it.
   const VertexRings rings(out.mesh.F, static_cast<int>(out.mesh.V.rows()));
   int v = static_cast<int>(out.base.V.rows());
