@@ -34,7 +34,9 @@ Sampled sampledSphere() {
 
 // The remeshed surface as resampling leaves it, before the clean-up.
 Remeshing resampled(const Sampled& x) {
-  Remeshing out = resampled(x);
+  Remeshing out;
+  out.base = x.s.base;
+  out.mesh = x.grid.mesh;
   return out;
 }
 
