@@ -38,13 +38,14 @@ FacesAround facesAround(const Faces& F, Eigen::Index numVertices) {
 // A point of the input: triangle and barycentric coordinates (triangle -1: none).
 using Where = SurfacePoint;
 
-// Step 3 of remesh.h. The orientation a grid triangle should have is the input's
-// where its corners were sampled (area-weighted vertex normals interpolated there),
-// which is unambiguous even on thin parts, where the nearest input point may lie on
-// the other side. Free grid points around bad triangles move to the input point
-// nearest to their neighbours' centroid, unless that point faces the other way.
 }  // namespace
 
+// A grid triangle is flipped when it faces against the input triangle under each of its
+// corners (where they were sampled): unambiguous even on thin parts, where the nearest
+// input point may lie on the other side. The smoother references of the repairs below
+// are the input's area-weighted vertex normals interpolated at the samples. Free grid
+// points around bad triangles first move to the input point nearest to their
+// neighbours' centroid, unless that point faces the other way.
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<Where>& where,
              const SurfaceWalker& walker, const Progress& progress) {
@@ -68,7 +69,11 @@ void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free
     const Vec3 n = (b - a).cross(c - a);
     degenerate = n.norm() <= tinyArea;
     if (degenerate) return true;
-    return n.dot(reference(i) + reference(j) + reference(k)) <= 0;
+    // Flipped: facing against the input triangle under every corner (on a coarse input,
+    // interpolated vertex normals can point away from the very face a sample lies in).
+    for (int v : {i, j, k})
+      if (where[v].triangle < 0 || n.dot(faceNormal(input, where[v].triangle)) > 0) return false;
+    return true;
   };
   auto bad = [&](Eigen::Index f, bool& degenerate) {
     return badCorners(m.F(f, 0), m.F(f, 1), m.F(f, 2), degenerate);

@@ -55,7 +55,8 @@ struct Remeshing {
   /// How much the clean-up ran: flipped and zero-area triangles it found, points it
   /// moved, base faces it relaxed as a whole. 0, 0, 0 when sampling folded nothing.
   int cleanupDefectsBefore = 0, cleanupMovedPoints = 0, cleanupRelaxedFaces = 0;
-  /// Triangles of `mesh` left flipped (facing against the input where they lie) or
+  /// Triangles of `mesh` left flipped (facing against the input triangle under each of
+  /// their corners, where those were sampled) or
   /// of zero area after the clean-up pass; 0 is the goal (see remesh()).
   int flippedTriangles = 0, degenerateTriangles = 0;
   /// Pairs of triangles of `mesh` that cross without being neighbours
