@@ -20,10 +20,17 @@ for path in "$scans"/*.obj "$scans"/*.off "$scans"/*.ply; do
   [ -f "$path" ] || continue
   name=$(basename "$path"); name=${name%.*}
   if [ -n "${MESHES:-}" ] && ! echo " $MESHES " | grep -q " $name "; then continue; fi
-  if ! topo_in=$("$build/osdmra" info "$path" --json 2>/tmp/osdmra-sweep-err); then
+  # The input's topology: of the mesh remesh() gets (unreferenced vertices dropped, as
+  # remesh does: a base as large as the input, not split).
+  clean=$(mktemp /tmp/osdmra-sweep-XXXXXX.obj)
+  if ! "$build/osdmra" remesh "$path" --base-faces 16777216 --levels 0 -o "$clean" \
+        >/dev/null 2>/tmp/osdmra-sweep-err ||
+     ! topo_in=$("$build/osdmra" info "$clean" --json 2>/tmp/osdmra-sweep-err); then
+    rm -f "$clean"
     echo "| $name | | | | | | | | | | | rejected: $(head -c 200 /tmp/osdmra-sweep-err | tr '|\n' '/ ') | |"
     continue
   fi
+  rm -f "$clean"
   for n in $sizes; do
     for J in $levels; do
       json=$("$build/osdmra" remesh "$path" --base-faces "$n" --levels "$J" -o "$out" --json)

@@ -1,0 +1,100 @@
+// The remesher on the public scans, beside its peer: meshoptimizer simplifying the same
+// input to the same base size (a coarse mesh only: no parameterisation, no remeshed
+// surface). Time per 100,000 input faces is the figure of issue 13 (at most 5 s at
+// J = 5 over 300 base faces). Results in docs/BENCHMARKS.md.
+//
+//   osdmra_remesh_bench [google benchmark flags]   (scans: $OSDMRA_SCANS, default
+//   ../shared/data/scans; every .obj, .off and .ply that is a manifold mesh)
+#include <benchmark/benchmark.h>
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mesh/io.h"
+#include "osdmra/mesh/mesh.h"
+#include "osdmra/remesh/remesh.h"
+
+using namespace osdmra;
+
+namespace {
+
+constexpr int kBaseFaces = 300, kLevels = 5;
+
+void bmRemesh(benchmark::State& state, const TriMesh& m) {
+  RemeshOptions o;
+  o.baseFaces = kBaseFaces;
+  o.levels = kLevels;
+  Remeshing r;
+  for (auto _ : state) {
+    r = remesh(m, o);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["input_faces"] = static_cast<double>(m.F.rows());
+  state.counters["base_faces"] = static_cast<double>(r.base.F.rows());
+  state.counters["s_per_100k_faces"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * 1e5 / static_cast<double>(m.F.rows()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void bmMeshoptToBase(benchmark::State& state, const TriMesh& m) {
+  std::vector<float> positions;
+  std::vector<unsigned> indices, out(3 * m.F.rows());
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
+    for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(m.V(i, k)));
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<unsigned>(m.F(f, k)));
+  std::size_t count = 0;
+  for (auto _ : state) {
+    float error = 0;
+    count =
+        meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
+                         positions.size() / 3, 3 * sizeof(float), 3 * kBaseFaces, 1.0f, 0, &error);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["faces"] = static_cast<double>(count / 3);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* env = std::getenv("OSDMRA_SCANS");
+  const std::filesystem::path dir = env ? env : "../shared/data/scans";
+  static std::vector<std::pair<std::string, TriMesh>> meshes;
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::is_directory(dir))
+    for (const auto& e : std::filesystem::directory_iterator(dir)) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& path : files) {
+    const std::string ext = path.extension().string();
+    if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
+    try {
+      TriMesh m = readMesh(path.string());
+      removeUnreferencedVertices(m);
+      validate(m, path.string());
+      meshes.emplace_back(path.stem().string(), std::move(m));
+    } catch (const Error&) {  // not a manifold mesh (cow.obj): not a remesher input
+    }
+  }
+  for (const auto& [name, mesh] : meshes) {
+    const TriMesh* m = &mesh;
+    benchmark::RegisterBenchmark(("Remesh/" + name).c_str(),
+                                 [m](benchmark::State& s) { bmRemesh(s, *m); })
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime()
+        ->UseRealTime()
+        ->Iterations(1);
+    benchmark::RegisterBenchmark(("MeshoptSimplifyToBase/" + name).c_str(),
+                                 [m](benchmark::State& s) { bmMeshoptToBase(s, *m); })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
