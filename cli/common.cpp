@@ -78,6 +78,8 @@ AnalysisOptions analysisOptions(const Args& args) {
     throw Error("--importance must be scaled or plain, got '" + how + "'");
   o.approximation.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
   o.approximation.saturate = !args.has("exact");
+  o.approximation.selection = parseSelection(args.get("selection", "rd"));
+  o.approximation.placement = parsePlacement(args.get("placement", "surface"));
   return o;
 }
 

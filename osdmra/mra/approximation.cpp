@@ -13,13 +13,10 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
       d_(d),
       options_(options),
       importance_(osdmra::importance(d, bank.norms, options.importance)) {
-  // One sort serves every extraction: keeping k coefficients is a prefix.
-  for (std::size_t j = 0; j < importance_.size(); ++j)
-    for (Eigen::Index i = 0; i < importance_[j].size(); ++i)
-      order_.emplace_back(static_cast<int>(j), static_cast<int>(i));
-  std::stable_sort(order_.begin(), order_.end(), [&](const auto& a, const auto& b) {
-    return importance_[a.first](a.second) > importance_[b.first](b.second);
-  });
+  // One order serves every extraction: keeping k coefficients is a prefix.
+  order_ = options.selection == Selection::RateDistortion
+               ? rateDistortionOrder(*bank.hierarchy, importance_)
+               : importanceOrder(importance_);
   const Hierarchy& h = *bank.hierarchy;
   if (bank.scheme == Scheme::Loop)
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
@@ -71,6 +68,9 @@ Approximation Approximator::make(const KeepMask& selection) const {
     for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
   }
   a.mesh.F = a.lod.compactFaces;
+  if (options_.placement == Placement::Fit)
+    a.mesh.V =
+        fitPositions(lodInterpolation(*bank_.hierarchy, a.lod), full_.V, a.mesh.V, options_.fit);
   return a;
 }
 

@@ -17,6 +17,8 @@
 #include "osdmra/mra/decomposition.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mra/lod.h"
+#include "osdmra/mra/placement.h"
+#include "osdmra/mra/selection.h"
 #include "osdmra/mra/truncation.h"
 
 namespace osdmra {
@@ -32,13 +34,22 @@ struct Approximation {
 };
 
 struct ApproximationOptions {
-  /// How coefficients are ranked for keepCount, keepFraction, keepAbove and budget.
+  /// How coefficients are ranked: keepAbove compares it with epsilon, and the
+  /// orders of keepCount, keepFraction and budget are built from it.
   Importance importance = Importance::Scaled;
+  /// The order keepCount, keepFraction and budget take prefixes of (selection.h):
+  /// error removed per triangle added (default), or importance alone.
+  Selection selection = Selection::RateDistortion;
   /// Also keep the free coefficients (saturate()): those whose vertex the mesh has
   /// anyway, inside the refined region. The mesh is the same, its vertices sit on a
   /// closer truncated surface (at the 5% budget of the semi-regular head in
   /// docs/BENCHMARKS.md, 18% lower sampled RMS error). Off: exactly the selection.
   bool saturate = true;
+  /// Where the vertices go (placement.h): on the truncated surface, or the mesh's
+  /// least-squares fit of the full-resolution surface (one sparse solve per
+  /// extraction).
+  Placement placement = Placement::Surface;
+  FitOptions fit;
 };
 
 class Approximator {
@@ -48,16 +59,16 @@ class Approximator {
 
   long long numCoefficients() const { return static_cast<long long>(order_.size()); }
 
-  /// The `count` most important coefficients.
+  /// The first `count` coefficients of the selection order.
   Approximation keepCount(long long count) const;
-  /// A fraction in [0, 1] of the coefficients, the most important ones.
+  /// A fraction in [0, 1] of the coefficients, the first ones of the selection order.
   Approximation keepFraction(double fraction) const;
   /// Every coefficient of importance at least `epsilon`.
   Approximation keepAbove(double epsilon) const;
   /// The most coefficients whose mesh has at most `triangles` faces. Never fewer
   /// triangles than the base mesh has. The first call computes triangleCounts().
   Approximation budget(long long triangles) const;
-  /// Entry k: the triangle count when the k most important coefficients are kept
+  /// Entry k: the triangle count when the first k coefficients of the order are kept
   /// (lodTriangleCounts), computed once, on first use (thread-safe).
   const std::vector<long long>& triangleCounts() const;
 
@@ -77,7 +88,7 @@ class Approximator {
   const Decomposition& d_;
   ApproximationOptions options_;
   std::vector<Eigen::VectorXd> importance_;
-  std::vector<std::pair<int, int>> order_;  // (level, index), most important first
+  CoefficientOrder order_;  // options_.selection's order
   std::unique_ptr<Hierarchy::LimitStencils> limit_;
   Points fullControls_;  // c^J
   TriMesh full_;

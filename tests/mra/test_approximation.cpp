@@ -2,6 +2,9 @@
 // monotone in epsilon, within budget, vertices on the truncated surface.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+
 #include "osdmra/mra/approximation.h"
 #include "osdmra/subdivision/shapes.h"
 
@@ -78,13 +81,17 @@ TEST(Approximation, ExactAtBothEndsMonotoneAndWithinBudget) {
 }
 
 // The free coefficients change nothing but the positions: the same faces, more kept,
-// and with --exact (saturate off) exactly the selection.
+// and with --exact (saturate off) exactly the selection. In the importance order
+// (the rate-distortion order lists what each refinement frees right after it, so
+// its prefixes are mostly saturated already).
 TEST(Approximation, FreeCoefficientsKeepTheMesh) {
   for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
     SCOPED_TRACE(schemeName(s));
     const Fixture f("icosahedron", s, 4);
-    const Approximator saturated(f.bank, f.d);
-    ApproximationOptions exactOptions;
+    ApproximationOptions options;
+    options.selection = Selection::Importance;
+    const Approximator saturated(f.bank, f.d, options);
+    ApproximationOptions exactOptions = options;
     exactOptions.saturate = false;
     const Approximator exact(f.bank, f.d, exactOptions);
     for (long long count : {10LL, 100LL, 1000LL}) {
@@ -97,4 +104,31 @@ TEST(Approximation, FreeCoefficientsKeepTheMesh) {
       EXPECT_EQ(a.lod.vertices, b.lod.vertices);
     }
   }
+}
+
+// The rate-distortion order (the default): on every test shape and both schemes, a
+// larger budget never gives a larger exact L2 error, the budget still fits, and
+// everything kept is exact. (Each prefix's mesh is the one extractLod gives, so the
+// conformity checks of test_lod.cpp apply to it unchanged.)
+TEST(Approximation, RateDistortionErrorNeverIncreasesWithTheBudget) {
+  for (const auto& [name, shape] : shapes::all())
+    for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+      SCOPED_TRACE(name + " " + schemeName(s));
+      const int J = 3;
+      const Fixture f(name, s, J);
+      const Approximator approx(f.bank, f.d);
+      const auto& counts = approx.triangleCounts();
+      ASSERT_EQ(static_cast<long long>(counts.size()), approx.numCoefficients() + 1);
+      for (std::size_t k = 1; k < counts.size(); ++k) ASSERT_GE(counts[k], counts[k - 1]);
+      double previous = std::numeric_limits<double>::infinity();
+      const long long base = f.h.numFaces(0), full = f.h.numFaces(J);
+      for (long long budget = base; budget <= full; budget += std::max<long long>(1, full / 64)) {
+        const Approximation a = approx.budget(budget);
+        ASSERT_LE(a.triangles(), budget);
+        const double e = approx.l2Error(a);
+        EXPECT_LE(e, previous) << "budget " << budget << ", " << a.triangles() << " triangles";
+        previous = std::min(previous, e);
+      }
+      EXPECT_LT(approx.l2Error(approx.budget(full)), 1e-12);
+    }
 }
