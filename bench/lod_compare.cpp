@@ -117,9 +117,11 @@ struct Config {
   Scheme scheme;
   Selection selection;
   Placement placement;
+  bool surfaceMetric = false;
   std::string name() const {
     return std::string("osdmra ") + (scheme == Scheme::Loop ? "loop" : "linear") + " " +
-           selectionName(selection) + " " + placementName(placement);
+           selectionName(selection) + " " + placementName(placement) +
+           (surfaceMetric ? " area" : "");
   }
 };
 
@@ -155,6 +157,8 @@ void compare(const std::string& path, const std::vector<long long>& given,
                            std::pair{Selection::RateDistortion, Placement::Surface},
                            std::pair{Selection::RateDistortion, Placement::Fit}})
       configs.push_back({scheme, sel, pl});
+  for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
+    configs.push_back({scheme, Selection::RateDistortion, Placement::Fit, true});
   for (Scheme scheme : {Scheme::Linear, Scheme::Loop}) {
     AnalysisOptions ao;
     ao.scheme = scheme;
@@ -165,6 +169,7 @@ void compare(const std::string& path, const std::vector<long long>& given,
       ApproximationOptions o;
       o.selection = c.selection;
       o.placement = c.placement;
+      o.surfaceMetric = c.surfaceMetric;
       const auto t0 = Clock::now();
       a.setApproximation(o);
       a.approximator().triangleCounts();

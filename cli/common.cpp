@@ -80,6 +80,10 @@ AnalysisOptions analysisOptions(const Args& args) {
   o.approximation.saturate = !args.has("exact");
   o.approximation.selection = parseSelection(args.get("selection", "rd"));
   o.approximation.placement = parsePlacement(args.get("placement", "surface"));
+  const std::string metric = args.get("metric", "domain");
+  if (metric != "domain" && metric != "surface")
+    throw Error("--metric must be domain or surface, got '" + metric + "'");
+  o.approximation.surfaceMetric = metric == "surface";
   return o;
 }
 

@@ -91,7 +91,7 @@ int cmdLod(const Argv& argv) {
   Args args(
       "lod", argv,
       {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep", "importance",
-       "selection", "placement", "samples", "seed", "base-faces", "feature-angle"},
+       "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
       flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
@@ -142,7 +142,7 @@ int cmdLod(const Argv& argv) {
 int cmdSweep(const Argv& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
-             "selection", "placement", "samples", "seed", "base-faces", "feature-angle"},
+             "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);

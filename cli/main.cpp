@@ -36,7 +36,7 @@ commands:
                                optionally from the most important coefficients only
   lod IN (--epsilon E | --budget N | --keep F) -o OUT [--scheme S] [--rings R]
                  [--importance scaled|plain] [--selection rd|importance] [--exact]
-                 [--placement surface|fit] [--samples N --seed S]
+                 [--placement surface|fit] [--metric domain|surface] [--samples N --seed S]
                                crack-free adaptive mesh from the coefficients that
                                remove the most error per triangle added (rd, the
                                default; importance: the most important ones, as in
@@ -45,7 +45,9 @@ commands:
                                coefficients of vertices the mesh has anyway are kept
                                too (no extra triangle) unless --exact; --placement
                                fit moves the vertices to the least-squares fit of
-                               the full surface (one sparse solve); --remesh as
+                               the full surface (one sparse solve); --metric surface
+                               weighs importance by area on the surface, not on
+                               the base domain; --remesh as
                                for analyze (its distance reported apart)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                                any manifold triangle mesh (any genus, boundaries) to

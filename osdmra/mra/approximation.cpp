@@ -13,15 +13,18 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
       d_(d),
       options_(options),
       importance_(osdmra::importance(d, bank.norms, options.importance)) {
-  // One order serves every extraction: keeping k coefficients is a prefix.
-  order_ = options.selection == Selection::RateDistortion
-               ? rateDistortionOrder(*bank.hierarchy, importance_)
-               : importanceOrder(importance_);
   const Hierarchy& h = *bank.hierarchy;
+  fullControls_ = synthesize(bank, d, d.levels);
+  if (options.surfaceMetric) {
+    const std::vector<Eigen::VectorXd> w = surfaceAreaWeights(h, fullControls_);
+    for (std::size_t j = 0; j < importance_.size(); ++j) importance_[j].array() *= w[j].array();
+  }
+  // One order serves every extraction: keeping k coefficients is a prefix.
+  order_ = options.selection == Selection::RateDistortion ? rateDistortionOrder(h, importance_)
+                                                          : importanceOrder(importance_);
   if (bank.scheme == Scheme::Loop)
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
   full_.F = h.faces(h.levels());
-  fullControls_ = synthesize(bank, d, d.levels);
   full_.V = positions(fullControls_, &full_.N);
 }
 

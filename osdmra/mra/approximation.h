@@ -40,6 +40,10 @@ struct ApproximationOptions {
   /// The order keepCount, keepFraction and budget take prefixes of (selection.h):
   /// error removed per triangle added (default), or importance alone.
   Selection selection = Selection::RateDistortion;
+  /// Measure importance in the surface's own metric (surfaceAreaWeights): regions the
+  /// parameterisation shrinks count by their area on the surface. Off: the paper's
+  /// inner product, every base triangle of area 1.
+  bool surfaceMetric = false;
   /// Also keep the free coefficients (saturate()): those whose vertex the mesh has
   /// anyway, inside the refined region. The mesh is the same, its vertices sit on a
   /// closer truncated surface (at the 5% budget of the semi-regular head in
