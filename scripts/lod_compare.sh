@@ -11,7 +11,8 @@
 #
 # Environment: BUILD_DIR (default build-bench; configured with OSDMRA_BUILD_BENCH=ON;
 # CGAL is used when libcgal-dev is installed), SCANS (default ../shared/data/scans),
-# OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000).
+# OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000),
+# SKIP_RUN=1 (re-use OUT's tables: only the summary and the docs are remade).
 # With --update-docs the tables replace the section between the lod-compare markers
 # of docs/LOD.md. About 15 minutes on 2 cores (CGAL's simplifier is most of it).
 set -euo pipefail
@@ -30,6 +31,7 @@ fi
 
 # The remeshes, and their distance to the scans.
 inputs=(data/igea-oct6.obj)
+if [[ -z "${SKIP_RUN:-}" ]]; then
 echo "| scan | remesh faces | base faces | RMS to the scan | Hausdorff to the scan |" >"$out/remesh.md"
 echo "|---|---:|---:|---:|---:|" >>"$out/remesh.md"
 for name in stanford-bunny spot rocker-arm fandisk elephant; do
@@ -44,6 +46,7 @@ PY
 done
 
 "$build/bench/osdmra_lod_compare" "${inputs[@]}" --samples "$samples" | tee "$out/full.md"
+fi
 
 # Summary: per input and budget, the paper's configuration, the default, the best
 # osdmra row (by RMS to the input), meshoptimizer and CGAL, and the ratios.

@@ -21,7 +21,9 @@
 //   then lists the seed followed by what it made free. Ratios are kept in a priority
 //   queue and re-evaluated lazily: a popped candidate is re-measured against the
 //   current mesh and taken only if it still beats the next one; when a refinement is
-//   taken, the candidates around and below it (whose cost it lowered) are re-measured.
+//   taken, the candidates around and below it (whose cost it lowered) are re-measured,
+//   and the coefficients of the faces it creates join the queue (the queue starts with
+//   the base level's).
 //   The error against triangle count then follows the lower convex hull of what single
 //   refinements can reach, up to the greedy's myopia (a cheap refinement that only
 //   opens the way to a valuable one is valued on its own).
