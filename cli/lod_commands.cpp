@@ -199,7 +199,8 @@ std::string demoIntroduction(const DemoSetup& setup, bool bundled, const LoadedS
      << "`osdmra demo`: `" << std::filesystem::path(setup.in).filename().string() << "`, "
      << s.mesh.F.rows() << " triangles" << (s.remeshing ? " after remeshing" : "") << ", "
      << structure << "; quasi-wavelets with r = " << setup.wavelets.rings
-     << "; coefficients kept by importance |d| ||psi||. Errors are relative to the "
+     << "; importance |d| ||psi||, coefficients chosen by error removed per triangle added "
+     << "(rate-distortion order). Errors are relative to the "
      << "bounding-box diagonal of the full-resolution surface: the exact parametric L2 error as "
      << "an RMS over the domain, and the sampled symmetric RMS and Hausdorff distances ("
      << setup.distance.samples << " samples per surface plus all vertices, seed "
