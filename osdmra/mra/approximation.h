@@ -1,13 +1,16 @@
 // Approximation: a truncated wavelet expansion as a renderable, crack-free mesh.
 //
-// Given a decomposition, keep the most important coefficients (truncation.h), build
-// the adaptive level-of-detail connectivity (lod.h), and place every vertex on the
-// truncated surface at its parameter point (math.md 5, paper section 4):
+// Given a decomposition, keep a prefix of one order of the coefficients (selection.h:
+// error removed per triangle added, or importance alone; truncation.h ranks them),
+// build the adaptive level-of-detail connectivity (lod.h), and place every vertex on
+// the truncated surface at its parameter point (math.md 5, paper section 4):
 //   polyhedral: the truncated reconstruction's values (the surface interpolates them);
-//   Loop: exact limit positions and limit normals through OpenSubdiv's limit stencils.
-// The Approximator holds what every extraction reuses (importance order, limit
-// stencils, the full-resolution reference), so a new level of detail costs one
-// synthesis plus work proportional to the output.
+//   Loop: exact limit positions and limit normals through OpenSubdiv's limit stencils;
+// or, optionally, at the mesh's least-squares fit of the full surface (placement.h).
+// The Approximator holds what every extraction reuses (the order and the triangle
+// count of each of its prefixes, limit stencils, the full-resolution reference), so a
+// new level of detail costs one synthesis plus work proportional to the output (plus
+// one walk of M^J and a sparse solve with the fit).
 #pragma once
 
 #include <memory>
