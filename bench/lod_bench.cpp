@@ -128,6 +128,25 @@ void bmOsdmraLod(benchmark::State& state, Scheme scheme, long long triangles) {
   errorCounters(state, a.mesh, in.mesh);
 }
 
+// The same with the vertices fitted by least squares (--placement fit) and importance
+// in the surface's metric: the approximator is replaced for the run, then restored.
+void bmOsdmraLodFit(benchmark::State& state, Scheme scheme, long long triangles) {
+  LodInput& in = lodInput(scheme);
+  ApproximationOptions o;
+  o.placement = Placement::Fit;
+  o.surfaceMetric = true;
+  in.surface->setApproximation(o);
+  in.approx().triangleCounts();
+  Approximation a;
+  for (auto _ : state) {
+    a = in.approx().budget(triangles);
+    benchmark::DoNotOptimize(a);
+  }
+  errorCounters(state, a.mesh, in.mesh);
+  in.surface->setApproximation({});
+  in.approx().triangleCounts();
+}
+
 // What an analysed surface costs once before its first budget: the approximator (one
 // sort of the coefficients, the full-resolution reference, limit stencils for Loop)
 // and the triangle count of every prefix of the importance order.
@@ -262,6 +281,10 @@ int main(int argc, char** argv) {
         ->Iterations(3);
     benchmark::RegisterBenchmark(("Lod/OsdmraLoop/triangles:" + std::to_string(t)).c_str(),
                                  bmOsdmraLod, Scheme::Loop, t)
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+    benchmark::RegisterBenchmark(("Lod/OsdmraLinearFit/triangles:" + std::to_string(t)).c_str(),
+                                 bmOsdmraLodFit, Scheme::Linear, t)
         ->Unit(benchmark::kMillisecond)
         ->Iterations(3);
     benchmark::RegisterBenchmark(("Lod/MeshoptSimplify/triangles:" + std::to_string(t)).c_str(),

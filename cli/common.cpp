@@ -78,6 +78,12 @@ AnalysisOptions analysisOptions(const Args& args) {
     throw Error("--importance must be scaled or plain, got '" + how + "'");
   o.approximation.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
   o.approximation.saturate = !args.has("exact");
+  o.approximation.selection = parseSelection(args.get("selection", "rd"));
+  o.approximation.placement = parsePlacement(args.get("placement", "surface"));
+  const std::string metric = args.get("metric", "domain");
+  if (metric != "domain" && metric != "surface")
+    throw Error("--metric must be domain or surface, got '" + metric + "'");
+  o.approximation.surfaceMetric = metric == "surface";
   return o;
 }
 

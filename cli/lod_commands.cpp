@@ -88,10 +88,11 @@ void plotSweep(const std::string& csv, const std::string& png, const std::string
 }  // namespace
 
 int cmdLod(const Argv& argv) {
-  Args args("lod", argv,
-            {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
-             "importance", "samples", "seed", "base-faces", "feature-angle"},
-            flags({"exact", "remesh"}));
+  Args args(
+      "lod", argv,
+      {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep", "importance",
+       "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
+      flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
   const Common opt = common(args);
@@ -141,7 +142,7 @@ int cmdLod(const Argv& argv) {
 int cmdSweep(const Argv& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
-             "samples", "seed", "base-faces", "feature-angle"},
+             "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
@@ -198,7 +199,8 @@ std::string demoIntroduction(const DemoSetup& setup, bool bundled, const LoadedS
      << "`osdmra demo`: `" << std::filesystem::path(setup.in).filename().string() << "`, "
      << s.mesh.F.rows() << " triangles" << (s.remeshing ? " after remeshing" : "") << ", "
      << structure << "; quasi-wavelets with r = " << setup.wavelets.rings
-     << "; coefficients kept by importance |d| ||psi||. Errors are relative to the "
+     << "; importance |d| ||psi||, coefficients chosen by error removed per triangle added "
+     << "(rate-distortion order). Errors are relative to the "
      << "bounding-box diagonal of the full-resolution surface: the exact parametric L2 error as "
      << "an RMS over the domain, and the sampled symmetric RMS and Hausdorff distances ("
      << setup.distance.samples << " samples per surface plus all vertices, seed "

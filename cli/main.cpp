@@ -35,12 +35,19 @@ commands:
                                rebuild the surface (or its level-j approximation),
                                optionally from the most important coefficients only
   lod IN (--epsilon E | --budget N | --keep F) -o OUT [--scheme S] [--rings R]
-                 [--importance scaled|plain] [--exact] [--samples N --seed S]
-                               crack-free adaptive mesh from the most important
-                               coefficients, on the truncated surface (Loop: limit
+                 [--importance scaled|plain] [--selection rd|importance] [--exact]
+                 [--placement surface|fit] [--metric domain|surface] [--samples N --seed S]
+                               crack-free adaptive mesh from the coefficients that
+                               remove the most error per triangle added (rd, the
+                               default; importance: the most important ones, as in
+                               the paper), on the truncated surface (Loop: limit
                                positions and normals), with its errors; the
                                coefficients of vertices the mesh has anyway are kept
-                               too (no extra triangle) unless --exact; --remesh as
+                               too (no extra triangle) unless --exact; --placement
+                               fit moves the vertices to the least-squares fit of
+                               the full surface (one sparse solve); --metric surface
+                               weighs importance by area on the surface, not on
+                               the base domain; --remesh as
                                for analyze (its distance reported apart)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                                any manifold triangle mesh (any genus, boundaries) to

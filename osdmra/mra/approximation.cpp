@@ -13,18 +13,18 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
       d_(d),
       options_(options),
       importance_(osdmra::importance(d, bank.norms, options.importance)) {
-  // One sort serves every extraction: keeping k coefficients is a prefix.
-  for (std::size_t j = 0; j < importance_.size(); ++j)
-    for (Eigen::Index i = 0; i < importance_[j].size(); ++i)
-      order_.emplace_back(static_cast<int>(j), static_cast<int>(i));
-  std::stable_sort(order_.begin(), order_.end(), [&](const auto& a, const auto& b) {
-    return importance_[a.first](a.second) > importance_[b.first](b.second);
-  });
   const Hierarchy& h = *bank.hierarchy;
+  fullControls_ = synthesize(bank, d, d.levels);
+  if (options.surfaceMetric) {
+    const std::vector<Eigen::VectorXd> w = surfaceAreaWeights(h, fullControls_);
+    for (std::size_t j = 0; j < importance_.size(); ++j) importance_[j].array() *= w[j].array();
+  }
+  // One order serves every extraction: keeping k coefficients is a prefix.
+  order_ = options.selection == Selection::RateDistortion ? rateDistortionOrder(h, importance_)
+                                                          : importanceOrder(importance_);
   if (bank.scheme == Scheme::Loop)
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
   full_.F = h.faces(h.levels());
-  fullControls_ = synthesize(bank, d, d.levels);
   full_.V = positions(fullControls_, &full_.N);
 }
 
@@ -71,6 +71,9 @@ Approximation Approximator::make(const KeepMask& selection) const {
     for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
   }
   a.mesh.F = a.lod.compactFaces;
+  if (options_.placement == Placement::Fit)
+    a.mesh.V =
+        fitPositions(lodInterpolation(*bank_.hierarchy, a.lod), full_.V, a.mesh.V, options_.fit);
   return a;
 }
 

@@ -1,13 +1,16 @@
 // Approximation: a truncated wavelet expansion as a renderable, crack-free mesh.
 //
-// Given a decomposition, keep the most important coefficients (truncation.h), build
-// the adaptive level-of-detail connectivity (lod.h), and place every vertex on the
-// truncated surface at its parameter point (math.md 5, paper section 4):
+// Given a decomposition, keep a prefix of one order of the coefficients (selection.h:
+// error removed per triangle added, or importance alone; truncation.h ranks them),
+// build the adaptive level-of-detail connectivity (lod.h), and place every vertex on
+// the truncated surface at its parameter point (math.md 5, paper section 4):
 //   polyhedral: the truncated reconstruction's values (the surface interpolates them);
-//   Loop: exact limit positions and limit normals through OpenSubdiv's limit stencils.
-// The Approximator holds what every extraction reuses (importance order, limit
-// stencils, the full-resolution reference), so a new level of detail costs one
-// synthesis plus work proportional to the output.
+//   Loop: exact limit positions and limit normals through OpenSubdiv's limit stencils;
+// or, optionally, at the mesh's least-squares fit of the full surface (placement.h).
+// The Approximator holds what every extraction reuses (the order and the triangle
+// count of each of its prefixes, limit stencils, the full-resolution reference), so a
+// new level of detail costs one synthesis plus work proportional to the output (plus
+// one walk of M^J and a sparse solve with the fit).
 #pragma once
 
 #include <memory>
@@ -17,6 +20,8 @@
 #include "osdmra/mra/decomposition.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mra/lod.h"
+#include "osdmra/mra/placement.h"
+#include "osdmra/mra/selection.h"
 #include "osdmra/mra/truncation.h"
 
 namespace osdmra {
@@ -32,13 +37,26 @@ struct Approximation {
 };
 
 struct ApproximationOptions {
-  /// How coefficients are ranked for keepCount, keepFraction, keepAbove and budget.
+  /// How coefficients are ranked: keepAbove compares it with epsilon, and the
+  /// orders of keepCount, keepFraction and budget are built from it.
   Importance importance = Importance::Scaled;
+  /// The order keepCount, keepFraction and budget take prefixes of (selection.h):
+  /// error removed per triangle added (default), or importance alone.
+  Selection selection = Selection::RateDistortion;
+  /// Measure importance in the surface's own metric (surfaceAreaWeights): regions the
+  /// parameterisation shrinks count by their area on the surface. Off: the paper's
+  /// inner product, every base triangle of area 1.
+  bool surfaceMetric = false;
   /// Also keep the free coefficients (saturate()): those whose vertex the mesh has
   /// anyway, inside the refined region. The mesh is the same, its vertices sit on a
   /// closer truncated surface (at the 5% budget of the semi-regular head in
   /// docs/BENCHMARKS.md, 18% lower sampled RMS error). Off: exactly the selection.
   bool saturate = true;
+  /// Where the vertices go (placement.h): on the truncated surface, or the mesh's
+  /// least-squares fit of the full-resolution surface (one sparse solve per
+  /// extraction).
+  Placement placement = Placement::Surface;
+  FitOptions fit;
 };
 
 class Approximator {
@@ -48,16 +66,16 @@ class Approximator {
 
   long long numCoefficients() const { return static_cast<long long>(order_.size()); }
 
-  /// The `count` most important coefficients.
+  /// The first `count` coefficients of the selection order.
   Approximation keepCount(long long count) const;
-  /// A fraction in [0, 1] of the coefficients, the most important ones.
+  /// A fraction in [0, 1] of the coefficients, the first ones of the selection order.
   Approximation keepFraction(double fraction) const;
   /// Every coefficient of importance at least `epsilon`.
   Approximation keepAbove(double epsilon) const;
   /// The most coefficients whose mesh has at most `triangles` faces. Never fewer
   /// triangles than the base mesh has. The first call computes triangleCounts().
   Approximation budget(long long triangles) const;
-  /// Entry k: the triangle count when the k most important coefficients are kept
+  /// Entry k: the triangle count when the first k coefficients of the order are kept
   /// (lodTriangleCounts), computed once, on first use (thread-safe).
   const std::vector<long long>& triangleCounts() const;
 
@@ -77,7 +95,7 @@ class Approximator {
   const Decomposition& d_;
   ApproximationOptions options_;
   std::vector<Eigen::VectorXd> importance_;
-  std::vector<std::pair<int, int>> order_;  // (level, index), most important first
+  CoefficientOrder order_;  // options_.selection's order
   std::unique_ptr<Hierarchy::LimitStencils> limit_;
   Points fullControls_;  // c^J
   TriMesh full_;

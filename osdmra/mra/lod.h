@@ -24,9 +24,9 @@
 #include <utility>
 #include <vector>
 
-#include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/mra/truncation.h"
+#include "osdmra/subdivision/hierarchy.h"
 
 namespace osdmra {
 
@@ -45,6 +45,10 @@ struct LodMesh {
   /// Level of the hierarchy triangle each face comes from: the face itself, or the
   /// triangle that a green split halved.
   std::vector<int> faceLevel;
+  /// Index in M^faceLevel of that hierarchy triangle (the two halves of a green split
+  /// share it, and come one after the other: (a, m, o) then (m, b, o), m the midpoint
+  /// of the split edge (a, b)).
+  std::vector<int> faceOrigin;
   /// Faces that are whole hierarchy triangles (children of red splits, or unsplit
   /// base triangles).
   int redTriangles = 0;

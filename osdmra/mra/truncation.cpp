@@ -1,11 +1,12 @@
 #include "osdmra/mra/truncation.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-#include "osdmra/mra/element_gram.h"
 #include "osdmra/base/error.h"
+#include "osdmra/mra/element_gram.h"
 
 namespace osdmra {
 
@@ -19,6 +20,41 @@ std::vector<Eigen::VectorXd> importance(const Decomposition& d,
       if (j >= norms.size() || norms[j].size() != out[j].size())
         throw Error("importance: wavelet norms missing for level " + std::to_string(j));
       out[j] = out[j].cwiseProduct(norms[j]);
+    }
+  }
+  return out;
+}
+
+std::vector<Eigen::VectorXd> surfaceAreaWeights(const Hierarchy& h, const Points& fine) {
+  const int J = h.levels();
+  if (fine.rows() != h.numVertices(J) || fine.cols() != 3)
+    throw Error("surfaceAreaWeights: expected " + std::to_string(h.numVertices(J)) +
+                " positions, got " + std::to_string(fine.rows()));
+  // Relative area of every hierarchy triangle, finest first: a level-J triangle's
+  // surface area over the mean, then each coarser one the mean of its four children.
+  const Faces& F = h.faces(J);
+  std::vector<Eigen::VectorXd> area(J + 1);
+  area[J].resize(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::RowVector3d a = fine.row(F(f, 0)), b = fine.row(F(f, 1)), c = fine.row(F(f, 2));
+    area[J](f) = 0.5 * (b - a).cross(c - a).norm();
+  }
+  const double mean = area[J].mean();
+  if (!(mean > 0)) throw Error("surfaceAreaWeights: the surface has no area");
+  area[J] /= mean;
+  for (int j = J - 1; j >= 0; --j) {
+    area[j].resize(h.numFaces(j));
+    for (int f = 0; f < h.numFaces(j); ++f) area[j](f) = 0.25 * area[j + 1].segment(4 * f, 4).sum();
+  }
+  std::vector<Eigen::VectorXd> out(J);
+  for (int j = 0; j < J; ++j) {
+    const Connectivity& c = h.connectivity(j);
+    out[j].resize(h.numVertices(j + 1) - h.numVertices(j));
+    for (Eigen::Index e = 0; e < out[j].size(); ++e) {
+      const auto ab = h.parentEdge(j, static_cast<int>(e));
+      const int he = c.edgeHalfedge(c.findEdge(ab[0], ab[1])), tw = c.twin(he);
+      const double a = tw < 0 ? area[j](he / 3) : 0.5 * (area[j](he / 3) + area[j](tw / 3));
+      out[j](e) = std::sqrt(a);
     }
   }
   return out;

@@ -25,6 +25,18 @@ std::vector<Eigen::VectorXd> importance(const Decomposition& d,
                                         const std::vector<Eigen::VectorXd>& norms,
                                         Importance kind = Importance::Scaled);
 
+/// Weights that put importance in the surface's own metric (multiply them in). The
+/// paper's inner product gives every base triangle area 1, so a region that the
+/// parameterisation shrinks (an ear over an octahedron) counts for little though it
+/// is large on the surface. Weight of coefficient (j, e): the square root of the
+/// surface area of the level-j triangles on its edge (one on a boundary, else two)
+/// over their parametric share of the whole, both measured on the level-J mesh with
+/// positions `fine` (each level-j triangle's area is that of its 4^(J-j) level-J
+/// descendants). The squared importance, an L2 error, then scales with the surface
+/// area it covers; on a surface whose parameterisation preserves area every weight
+/// is 1. Throws Error when `fine` is not n_J x 3 or the surface has no area.
+std::vector<Eigen::VectorXd> surfaceAreaWeights(const Hierarchy& h, const Points& fine);
+
 /// Mask of kept coefficients, level by level.
 using KeepMask = std::vector<std::vector<char>>;
 

@@ -201,6 +201,36 @@ TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find("exactly one"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(path("x.obj")));
+  // The selection, placement and metric options: each a valid mesh within budget; a
+  // fitted mesh has the same faces as the one on the truncated surface, and other
+  // vertex positions.
+  for (const char* options : {"--selection importance", "--placement fit", "--metric surface",
+                              "--selection rd --placement surface --metric domain"}) {
+    SCOPED_TRACE(options);
+    const Result r =
+        run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --samples 2000 " + options +
+            " -o " + path("opt.obj"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const TriMesh m = readValidMesh(path("opt.obj"));
+    EXPECT_LE(m.F.rows(), 1500);
+    EXPECT_GT(m.F.rows(), 1000);
+  }
+  ASSERT_EQ(
+      run("lod " + path("g3.ply") + " --scheme linear --budget 1500 -o " + path("s.obj")).status,
+      0);
+  ASSERT_EQ(run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --placement fit -o " +
+                path("f.obj"))
+                .status,
+            0);
+  const TriMesh onSurface = readValidMesh(path("s.obj")), fitted = readValidMesh(path("f.obj"));
+  EXPECT_EQ(onSurface.F, fitted.F);
+  EXPECT_GT((onSurface.V - fitted.V).cwiseAbs().maxCoeff(), 1e-9);
+  for (const char* option : {"--selection best", "--placement quadric", "--metric area"}) {
+    const Result r =
+        run("lod " + path("g3.ply") + " --budget 100 " + option + " -o " + path("x.obj"));
+    EXPECT_EQ(r.status, 1) << option;
+    EXPECT_NE(r.err.find("must be"), std::string::npos) << r.err;
+  }
 }
 
 TEST_F(Cli, SweepWritesCsvAndPlot) {

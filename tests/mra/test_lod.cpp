@@ -215,7 +215,11 @@ void checkLod(const Shape& s, const KeepMask& keep, const LodMesh& lod) {
     ASSERT_GE(L, 0);
     ASSERT_LE(L, J);
     const int v[3] = {lod.faces(r, 0), lod.faces(r, 1), lod.faces(r, 2)};
+    ASSERT_EQ(static_cast<int>(lod.faceOrigin.size()), nf);
+    const auto origin = h.faces(L).row(lod.faceOrigin[r]);
+    const Tri originTri = rotated(origin(0), origin(1), origin(2));
     if (s.levelFaces[L].count(rotated(v[0], v[1], v[2]))) {
+      EXPECT_EQ(rotated(v[0], v[1], v[2]), originTri) << "face " << r << ": wrong origin";
       ++whole;
       for (int k = 0; k < 3; ++k) edges.push_back({v[k], v[(k + 1) % 3], L});
       continue;
@@ -244,6 +248,7 @@ void checkLod(const Shape& s, const KeepMask& keep, const LodMesh& lod) {
       edges.push_back({prev, mid, L, true});
     }
     EXPECT_TRUE(s.levelFaces[L].count(parent)) << "green face " << r << ": no parent in M^" << L;
+    EXPECT_EQ(parent, originTri) << "green face " << r << ": wrong origin";
     ++green;
   }
   EXPECT_EQ(whole, lod.redTriangles);

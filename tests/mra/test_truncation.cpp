@@ -1,6 +1,7 @@
 // Truncation (math.md 5): importance, selection, and the exact L2 error.
 #include <gtest/gtest.h>
 
+#include "osdmra/base/error.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/mra/gram.h"
 #include "osdmra/mra/truncation.h"
@@ -49,4 +50,41 @@ TEST(Truncation, EndsAndExactL2Error) {
           h, s, synthesize(bank, truncate(d, keepLargest(imp, total / 20)), J), surface.V);
       EXPECT_GT(err5, expected);
     }
+}
+
+// Surface-metric weights: 1 wherever the parameterisation preserves area (the
+// octahedron refined linearly: every level-J triangle has the same area), the same
+// for a scaled copy; with one vertex pulled outwards, above 1 on the edges at it and
+// below 1 on the edges whose faces do not touch it.
+TEST(Truncation, SurfaceAreaWeights) {
+  TriMesh base = shapes::byName("octahedron");
+  const int J = 3;
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+  const Points even = subdivide(base, J, Scheme::Linear).V;
+  for (double scale : {1.0, 7.0}) {
+    const auto w = surfaceAreaWeights(h, scale * even);
+    ASSERT_EQ(static_cast<int>(w.size()), J);
+    for (int j = 0; j < J; ++j) {
+      ASSERT_EQ(w[j].size(), h.numVertices(j + 1) - h.numVertices(j));
+      EXPECT_NEAR(w[j].minCoeff(), 1.0, 1e-12);
+      EXPECT_NEAR(w[j].maxCoeff(), 1.0, 1e-12);
+    }
+  }
+  base.V.row(0) *= 3.0;  // the four faces around vertex 0 grow
+  const auto w = surfaceAreaWeights(h, subdivide(base, J, Scheme::Linear).V);
+  const Connectivity& c = h.connectivity(0);
+  for (int e = 0; e < static_cast<int>(w[0].size()); ++e) {
+    const auto ab = h.parentEdge(0, e);
+    const bool touches = ab[0] == 0 || ab[1] == 0;
+    const int he = c.edgeHalfedge(c.findEdge(ab[0], ab[1]));
+    const bool faceTouches =
+        c.to(Connectivity::next(he)) == 0 || c.to(Connectivity::next(c.twin(he))) == 0;
+    if (touches) {
+      EXPECT_GT(w[0](e), 1.1) << "edge " << ab[0] << "-" << ab[1];
+    } else if (!faceTouches) {
+      EXPECT_LT(w[0](e), 0.9) << "edge " << ab[0] << "-" << ab[1];
+    }
+  }
+  EXPECT_THROW(surfaceAreaWeights(h, even.topRows(5)), Error);
+  EXPECT_THROW(surfaceAreaWeights(h, Points::Zero(even.rows(), 3)), Error);
 }

@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# Regenerates the comparison table of docs/LOD.md (issue 14): osdmra's levels of detail
+# (both schemes; importance or rate-distortion selection; vertices on the truncated
+# surface or least-squares fitted; importance in the domain's or the surface's metric)
+# beside meshoptimizer and CGAL's Garland-Heckbert simplifier, at the paper's budgets
+# and 1%, 3%, 10% of each input's triangles, on the bundled head and on J = 5 remeshes
+# (about 300 base faces) of five public scans, whose distance to the scan is reported
+# apart.
+#
+#   scripts/lod_compare.sh [--update-docs]
+#
+# Environment: BUILD_DIR (default build-bench; configured with OSDMRA_BUILD_BENCH=ON;
+# CGAL is used when libcgal-dev is installed), SCANS (default ../shared/data/scans),
+# OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000),
+# SKIP_RUN=1 (re-use OUT's tables: only the summary and the docs are remade).
+# With --update-docs the tables replace the section between the lod-compare markers
+# of docs/LOD.md. About 15 minutes on 2 cores (CGAL's simplifier is most of it).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${BUILD_DIR:-build-bench}
+scans=${SCANS:-../shared/data/scans}
+out=${OUT:-$build/lod-compare}
+samples=${SAMPLES:-100000}
+mkdir -p "$out"
+
+if [[ -z "${SKIP_BUILD:-}" ]]; then
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DOSDMRA_BUILD_BENCH=ON \
+    -DOSDMRA_BUILD_TESTS=OFF -DOSDMRA_BUILD_VIEWER=OFF >/dev/null
+  cmake --build "$build" -j2 --target osdmra_cli osdmra_lod_compare
+fi
+
+# The remeshes, and their distance to the scans.
+inputs=(data/igea-oct6.obj)
+if [[ -z "${SKIP_RUN:-}" ]]; then
+echo "| scan | remesh faces | base faces | RMS to the scan | Hausdorff to the scan |" >"$out/remesh.md"
+echo "|---|---:|---:|---:|---:|" >>"$out/remesh.md"
+for name in stanford-bunny spot rocker-arm fandisk elephant; do
+  mesh="$out/$name-J5.obj"
+  json=$("$build/osdmra" remesh "$scans/$name.obj" --base-faces 300 --levels 5 -o "$mesh" --json)
+  python3 - "$name" "$json" >>"$out/remesh.md" <<'PY'
+import json, sys
+n, j = sys.argv[1], json.loads(sys.argv[2])
+print(f"| {n} | {j['faces']:,} | {j['base_faces']} | {j['rms_relative']:.3e} | {j['hausdorff_relative']:.3e} |")
+PY
+  inputs+=("$mesh")
+done
+
+"$build/bench/osdmra_lod_compare" "${inputs[@]}" --samples "$samples" | tee "$out/full.md"
+fi
+
+# Summary: per input and budget, the paper's configuration, the default, the best
+# osdmra row (by RMS to the input), meshoptimizer and CGAL, and the ratios.
+python3 - "$out/full.md" "$out/remesh.md" >"$out/summary.md" <<'PY'
+import sys, collections
+rows = collections.OrderedDict()
+for line in open(sys.argv[1]):
+    c = [x.strip() for x in line.strip().strip('|').split('|')]
+    if len(c) < 8 or not c[2].isdigit():
+        continue
+    inp, method, budget, tris, rms, haus = c[0], c[1], int(c[2]), int(c[3]), float(c[4]), float(c[5])
+    rows.setdefault((inp, budget), {})[method] = (tris, rms, haus)
+print("| input | budget | paper (linear, importance, surface) | default (linear, rd, surface) | best osdmra | meshoptimizer | CGAL GH | best / meshopt | best / CGAL |")
+print("|---|---:|---|---|---|---|---|---:|---:|")
+fmt = lambda t: f"{t[1]:.2e} / {t[2]:.2e}"
+for (inp, budget), m in rows.items():
+    osd = {k: v for k, v in m.items() if k.startswith("osdmra")}
+    best = min(osd.items(), key=lambda kv: kv[1][1])
+    paper = m.get("osdmra linear importance surface")
+    default = m.get("osdmra linear rd surface")
+    mo = m.get("meshoptimizer")
+    gh = m.get("CGAL Garland-Heckbert")
+    r1 = f"{best[1][1] / mo[1]:.2f}" if mo else ""
+    r2 = f"{best[1][1] / gh[1]:.2f}" if gh else ""
+    print(f"| {inp} | {budget:,} | {fmt(paper) if paper else ''} | {fmt(default) if default else ''} | "
+          f"{best[0][7:]}: {fmt(best[1])} | {fmt(mo) if mo else ''} | {fmt(gh) if gh else ''} | {r1} | {r2} |")
+print()
+print("Remeshes (`osdmra remesh SCAN --base-faces 300 --levels 5`), distances to the scan, relative to its diagonal:")
+print()
+print(open(sys.argv[2]).read())
+PY
+cat "$out/summary.md"
+
+if [[ "${1:-}" == "--update-docs" ]]; then
+  python3 - docs/LOD.md "$out/summary.md" "$out/full.md" "$(date -u '+%Y-%m-%d %H:%M UTC')" <<'PY'
+import sys
+doc, summary, full, when = sys.argv[1], open(sys.argv[2]).read(), open(sys.argv[3]).read(), sys.argv[4]
+text = open(doc).read()
+begin, end = "<!-- lod-compare begin -->", "<!-- lod-compare end -->"
+a, b = text.index(begin) + len(begin), text.index(end)
+body = (f"\n\n`scripts/lod_compare.sh --update-docs`, {when}. RMS / Hausdorff: sampled symmetric "
+        "distances to the input mesh, relative to its bounding-box diagonal.\n\n" + summary +
+        "\nEvery row (ms: one extraction or simplification; Loop rows also give the "
+        "distance to the input's limit surface, which Loop levels of detail approximate):\n\n"
+        "<details><summary>full table</summary>\n\n" + full + "\n</details>\n\n")
+open(doc, "w").write(text[:a] + body + text[b:])
+PY
+fi

@@ -1,0 +1,108 @@
+// Placement (placement.h): the interpolation of M^J by a level-of-detail mesh, and the
+// least-squares fit of its vertices.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "osdmra/base/error.h"
+#include "osdmra/mra/approximation.h"
+#include "osdmra/mra/placement.h"
+#include "osdmra/subdivision/shapes.h"
+
+using namespace osdmra;
+
+namespace {
+
+KeepMask randomMask(const Hierarchy& h, unsigned seed, double density) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  KeepMask keep(h.levels());
+  for (int j = 0; j < h.levels(); ++j)
+    for (int e = 0; e < h.numVertices(j + 1) - h.numVertices(j); ++e)
+      keep[j].push_back(u(rng) < density ? 1 : 0);
+  return keep;
+}
+
+Points gather(const Points& V, const std::vector<int>& rows) {
+  Points out(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    out.row(static_cast<Eigen::Index>(k)) = V.row(rows[k]);
+  return out;
+}
+
+}  // namespace
+
+// Rows are barycentric (non-negative, sum 1), the mesh's own vertices interpolate
+// themselves, and a function linear on every base triangle (the base mesh refined by
+// the linear scheme) is reproduced exactly at every level-J vertex: a wrong face or a
+// wrong green half would put some vertex elsewhere.
+TEST(Placement, InterpolationReproducesFunctionsLinearOnTheBase) {
+  for (const auto& [name, shape] : shapes::all()) {
+    SCOPED_TRACE(name);
+    const int J = 3;
+    const Hierarchy h(shape.F, static_cast<int>(shape.V.rows()), J);
+    const Points fine = subdivide(shape, J, Scheme::Linear).V;
+    for (double density : {0.0, 0.05, 0.3, 1.0}) {
+      const LodMesh lod = extractLod(h, randomMask(h, 11, density));
+      const SparseMatrix L = lodInterpolation(h, lod);
+      ASSERT_EQ(L.rows(), h.numVertices(J));
+      ASSERT_EQ(L.cols(), static_cast<Eigen::Index>(lod.vertices.size()));
+      for (int v = 0; v < L.rows(); ++v) {
+        double sum = 0;
+        for (SparseMatrix::InnerIterator it(L, v); it; ++it) {
+          EXPECT_GE(it.value(), 0.0);
+          sum += it.value();
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-12) << "vertex " << v;
+      }
+      for (std::size_t k = 0; k < lod.vertices.size(); ++k)
+        EXPECT_EQ(L.coeff(lod.vertices[k], static_cast<Eigen::Index>(k)), 1.0);
+      const Points x = gather(fine, lod.vertices);
+      EXPECT_LT((L * x - fine).cwiseAbs().maxCoeff(), 1e-12) << "density " << density;
+    }
+  }
+}
+
+// A target the mesh can represent is recovered from a perturbed start; otherwise the
+// fit's residual is never above the start's.
+TEST(Placement, FitRecoversRepresentableTargetsAndLowersTheResidual) {
+  const TriMesh base = shapes::byName("torus");
+  const int J = 3;
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+  const LodMesh lod = extractLod(h, randomMask(h, 4, 0.1));
+  const SparseMatrix L = lodInterpolation(h, lod);
+  const Points truth = Points::Random(L.cols(), 3);
+  const Points start = truth + 0.1 * Points::Random(L.cols(), 3);
+  FitOptions exact;
+  exact.iterations = 1000;
+  exact.tolerance = 1e-14;
+  EXPECT_LT((fitPositions(L, L * truth, start, exact) - truth).cwiseAbs().maxCoeff(), 1e-8);
+  const Points target = L * truth + 0.05 * Points::Random(L.rows(), 3);
+  const Points fit = fitPositions(L, target, start);
+  EXPECT_LT((L * fit - target).norm(), (L * start - target).norm());
+  EXPECT_THROW(fitPositions(L, target.topRows(3), start), Error);
+}
+
+// Through the approximator: the same meshes as on the truncated surface, closer to the
+// full-resolution surface at its vertices (both schemes).
+TEST(Placement, FitLowersTheApproximationsResidual) {
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    const TriMesh base = shapes::byName("icosahedron");
+    const TriMesh surface = subdivide(base, 4, s, 0.04, 21);
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
+    const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
+    const Decomposition d = analyze(bank, surface.V);
+    const Approximator onSurface(bank, d);
+    ApproximationOptions o;
+    o.placement = Placement::Fit;
+    const Approximator fitted(bank, d, o);
+    const Points& full = onSurface.fullResolution().V;
+    for (long long budget : {100LL, 400LL, 1500LL}) {
+      const Approximation a = onSurface.budget(budget), b = fitted.budget(budget);
+      EXPECT_EQ(a.mesh.F, b.mesh.F);
+      const SparseMatrix L = lodInterpolation(h, a.lod);
+      EXPECT_LT((L * b.mesh.V - full).norm(), (L * a.mesh.V - full).norm()) << budget;
+    }
+  }
+}
