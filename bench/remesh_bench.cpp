@@ -36,9 +36,6 @@ void bmRemesh(benchmark::State& state, const TriMesh& m) {
   }
   state.counters["input_faces"] = static_cast<double>(m.F.rows());
   state.counters["base_faces"] = static_cast<double>(r.base.F.rows());
-  state.counters["s_per_100k_faces"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * 1e5 / static_cast<double>(m.F.rows()),
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void bmMeshoptToBase(benchmark::State& state, const TriMesh& m) {
