@@ -2,7 +2,7 @@
 // Google's Draco in the same run, on one mesh: one CSV row per stream.
 //
 //   osdmra_codec_rd MESH --csv OUT.csv [--name NAME] [--remesh --base-faces N --levels J]
-//                   [--scheme loop|linear] [--wavelets lazy|quasi] [--tangent-weight W]
+//                   [--scheme loop|linear] [--wavelets lazy|quasi] [--rings R] [--tangent-weight W]
 //                   [--level-gain G] [--rates B1,B2,...] [--no-draco]
 //
 // Both codecs get the same full-resolution mesh (the input, or its remesh with
@@ -136,7 +136,7 @@ Row osdmraAt(const AnalysedSurface& a, double encodeSetup, double bitsPerVertex,
 int main(int argc, char** argv) try {
   const cli::Args args("", std::vector<std::string>(argv + 1, argv + argc),
                        {"csv", "name", "base-faces", "levels", "scheme", "wavelets",
-                        "tangent-weight", "level-gain", "rates"},
+                        "tangent-weight", "level-gain", "rates", "rings"},
                        {"remesh", "no-draco"}, "the comment at the top of bench/codec_rd.cpp");
   args.expectPositional(1, "one mesh");
   const std::string in = args.positional()[0], csv = args.require("csv");
@@ -153,6 +153,7 @@ int main(int argc, char** argv) try {
   options.scheme = parseScheme(args.get("scheme", "loop"));
   const std::string w = args.get("wavelets", "quasi");
   options.wavelets.kind = w == "lazy" ? WaveletKind::Lazy : WaveletKind::Quasi;
+  options.wavelets.rings = static_cast<int>(args.integer("rings", options.wavelets.rings, 0, 8));
   if (w == "lazy") options.wavelets.rings = 0;
   CodecOptions codec;
   codec.tangentWeight = args.real("tangent-weight", codec.tangentWeight, 1e-3, 1);

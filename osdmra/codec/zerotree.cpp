@@ -27,7 +27,7 @@ void addChild(std::array<int, 4>& slots, int child) {
       s = child;
       return;
     }
-  throw Error("edge tree: an edge with more than four children");
+  throw Error("edge tree: an edge with more than four children or neighbours");
 }
 
 // The children of level j's edges. Face f = (v0, v1, v2) of M^j has children 4f..4f+3
@@ -50,6 +50,22 @@ std::vector<std::array<int, 4>> levelChildren(const Hierarchy& h, int j) {
   return out;
 }
 
+// The edges beside each edge of M^j: the two others of each triangle it borders.
+std::vector<std::array<int, 4>> levelNeighbours(const Hierarchy& h, int j) {
+  const Faces& F = h.faces(j);
+  const Faces& fine = h.faces(j + 1);
+  const int n = h.numVertices(j);
+  std::vector<std::array<int, 4>> out(h.numVertices(j + 1) - n, {-1, -1, -1, -1});
+  for (int f = 0; f < F.rows(); ++f) {
+    const int e[3] = {fine(4 * f, 1) - n, fine(4 * f + 1, 2) - n, fine(4 * f, 2) - n};
+    for (int i = 0; i < 3; ++i) {
+      addChild(out[e[i]], e[(i + 1) % 3]);
+      addChild(out[e[i]], e[(i + 2) % 3]);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 EdgeTree edgeTree(const Hierarchy& h) {
@@ -57,6 +73,7 @@ EdgeTree edgeTree(const Hierarchy& h) {
   const int J = h.levels();
   for (int j = 0; j < J; ++j) t.edges.push_back(h.numVertices(j + 1) - h.numVertices(j));
   for (int j = 0; j + 1 < J; ++j) t.children.push_back(levelChildren(h, j));
+  for (int j = 0; j < J; ++j) t.neighbours.push_back(levelNeighbours(h, j));
   return t;
 }
 
@@ -82,9 +99,11 @@ constexpr int kLevelContexts = 8;
 struct Contexts {
   // [level][component class][parent significant]; the class is 0 for the normal
   // component, 1 for a tangential one whose normal is insignificant, 2 otherwise.
-  BitModel significance[kLevelContexts][3][2];
-  // [level][component class][the node itself significant]
-  BitModel subtree[kLevelContexts][3][2];
+  // [significant neighbours: 0, 1, 2 or more]
+  BitModel significance[kLevelContexts][3][2][3];
+  // [level][component class][the node itself significant][neighbours with a
+  // significant subtree: 0, 1, 2 or more]
+  BitModel subtree[kLevelContexts][3][2][3];
   // [level][normal or tangential][first refinement of this node]
   BitModel refinement[kLevelContexts][2][2];
 };
@@ -112,6 +131,18 @@ struct State {
   }
 };
 
+// How many edges beside node i (same component) are significant, or with `subtree`
+// have a subtree known to be, capped at 2.
+int neighbourCount(const EdgeTree& t, const State& s, int j, std::size_t i, bool subtree) {
+  int count = 0;
+  for (int e : t.neighbours[j][i / 3])
+    if (e >= 0) {
+      const std::size_t k = 3 * static_cast<std::size_t>(e) + i % 3;
+      count += subtree ? s.subtree[j][k] != 0 : s.born[j][k] >= 0;
+    }
+  return std::min(count, 2);
+}
+
 int componentClass(const State& s, int j, std::size_t i) {
   const std::size_t c = i % 3;
   if (c == 0) return 0;
@@ -124,7 +155,8 @@ template <class Io>
 bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts& ctx, Io& io) {
   const int lc = std::min(j, kLevelContexts - 1), cls = componentClass(s, j, i);
   if (s.born[j][i] < 0) {
-    const int bit = io.significant(ctx.significance[lc][cls][s.parentSig[j][i]], j, i, p);
+    BitModel& m = ctx.significance[lc][cls][s.parentSig[j][i]][neighbourCount(t, s, j, i, false)];
+    const int bit = io.significant(m, j, i, p);
     if (io.stopped()) return false;
     if (bit) {
       const int negative = io.sign(j, i);
@@ -136,7 +168,8 @@ bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts
   }
   if (j + 1 < static_cast<int>(t.edges.size()) && !s.subtree[j][i]) {
     const int self = s.born[j][i] >= 0;
-    const int bit = io.subtree(ctx.subtree[lc][cls][self], j, i, p);
+    const int bit =
+        io.subtree(ctx.subtree[lc][cls][self][neighbourCount(t, s, j, i, true)], j, i, p);
     if (io.stopped()) return false;
     if (bit) {
       s.subtree[j][i] = 1;

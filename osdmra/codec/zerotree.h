@@ -21,8 +21,10 @@
 // Roots are always reached. One "no" for a subtree stands for all of it: the zeros
 // of smooth regions at fine levels cost almost nothing. Every decision is coded by
 // the range coder (range_coder.h) in a context of its kind, level and component,
-// and of what is already known nearby (the parent's significance, and for tangential
-// components the significance of the normal one).
+// and of what is already known nearby: the parent's significance, how many of the
+// edges beside it in its triangles are significant (or have significant subtrees),
+// and for tangential components the significance of the normal one, as context
+// modelling does for image wavelets (Taubman's EBCOT, 2000).
 //
 // Truncation: the decoder updates its state only once a whole event is decoded (a
 // significance bit and its sign, a subtree bit, a refinement bit), so a cut stream
@@ -43,6 +45,9 @@ namespace osdmra {
 struct EdgeTree {
   std::vector<int> edges;  ///< E_j, the coefficient count of level j = 0..J-1
   std::vector<std::vector<std::array<int, 4>>> children;
+  /// neighbours[j][e]: the other edges of the triangles of M^j beside edge e (-1 for
+  /// the missing two on a boundary); their state is the coder's spatial context.
+  std::vector<std::vector<std::array<int, 4>>> neighbours;
 };
 
 /// The edge tree of a hierarchy, from its face and midpoint conventions alone.

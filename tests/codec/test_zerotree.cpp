@@ -46,6 +46,16 @@ TEST(EdgeTree, ChildrenAreTheEdgesThatRefineTheParent) {
             others.insert(ends);
         }
         EXPECT_EQ(halves.size(), 2u) << name << " level " << j << " edge " << e;
+        // Its neighbours: the other two edges of each triangle beside it, each sharing
+        // one end with it.
+        int neighbours = 0;
+        for (int k : t.neighbours[j][e]) {
+          if (k < 0) continue;
+          ++neighbours;
+          const auto [x, y] = h.parentEdge(j, k);
+          EXPECT_EQ((x == a || x == b) + (y == a || y == b), 1) << name << " " << e << " " << k;
+        }
+        EXPECT_EQ(neighbours, 2 * faces) << name << " level " << j << " edge " << e;
         // The other children join the midpoints of the two other edges of a triangle
         // beside e: both ends are new vertices, neither is m.
         for (const std::set<int>& o : others)
