@@ -122,7 +122,7 @@ Row osdmraAt(const AnalysedSurface& a, double encodeSetup, double bitsPerVertex,
                                 RateTarget::bitsPerVertex(bitsPerVertex, n), o);
   r.encodeSeconds = encodeSetup + since(t0);
   r.bytes = z.bytes.size();
-  r.psnrVertex = z.psnr;
+  r.psnrVertex = z.psnrVertices;
   t0 = Clock::now();
   const Decompressed d = decompress(z.bytes.data(), z.bytes.size(), "stream");
   r.decodeSeconds = since(t0);

@@ -19,7 +19,13 @@ namespace {
 RateTarget rateTarget(const Args& args, long long vertices) {
   const int given = args.has("psnr") + args.has("bits-per-vertex") + args.has("bytes");
   if (given > 1) throw Error("compress: give at most one of --psnr, --bits-per-vertex and --bytes");
-  if (args.has("psnr")) return RateTarget::psnr(args.real("psnr", 0, 1, 300));
+  if (args.has("psnr")) {
+    const std::string how = args.get("psnr-measure", "surface");
+    if (how != "surface" && how != "vertices")
+      throw Error("compress: --psnr-measure must be surface or vertices, got '" + how + "'");
+    return RateTarget::psnr(args.real("psnr", 0, 1, 300),
+                            how == "surface" ? PsnrMeasure::Surface : PsnrMeasure::Vertices);
+  }
   if (args.has("bits-per-vertex"))
     return RateTarget::bitsPerVertex(args.real("bits-per-vertex", 0, 1e-6, 1e6), vertices);
   if (args.has("bytes"))
@@ -53,8 +59,8 @@ double bitsPerVertex(std::size_t bytes, long long vertices) {
 int cmdCompress(const Argv& argv) {
   Args args("compress", argv,
             {"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme", "wavelets", "rings",
-             "precision", "tangent-weight", "level-gain", "base-faces", "feature-angle", "samples",
-             "seed"},
+             "precision", "tangent-weight", "level-gain", "psnr-measure", "base-faces",
+             "feature-angle", "samples", "seed"},
             flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
   const Common opt = common(args);
@@ -80,8 +86,10 @@ int cmdCompress(const Argv& argv) {
     std::printf("%s: %lld vertices, %d %s levels over %d base faces\n", in.c_str(), vertices,
                 a.levels(), schemeName(a.bank().scheme), a.hierarchy().numFaces(0));
     std::printf(
-        "wrote %s: %zu bytes (%.3f bits per vertex), PSNR %.2f dB; whole stream %zu bytes\n",
-        out.c_str(), z.bytes.size(), bitsPerVertex(z.bytes.size(), vertices), z.psnr, z.wholeBytes);
+        "wrote %s: %zu bytes (%.3f bits per vertex), PSNR %.2f dB (surface distance); whole stream "
+        "%zu bytes\n",
+        out.c_str(), z.bytes.size(), bitsPerVertex(z.bytes.size(), vertices), z.psnrSurface,
+        z.wholeBytes);
     std::printf("time: read %.3f s, analysis %.3f s, encoding %.3f s\n", tRead, a.times().total(),
                 tEncode);
     return 0;
@@ -98,7 +106,8 @@ int cmdCompress(const Argv& argv) {
                    .add("faces", a.hierarchy().numFaces(a.levels()))
                    .add("bytes", static_cast<long long>(z.bytes.size()))
                    .add("bits_per_vertex", bitsPerVertex(z.bytes.size(), vertices))
-                   .add("psnr", z.psnr)
+                   .add("psnr", z.psnrSurface)
+                   .add("psnr_vertices", z.psnrVertices)
                    .add("whole_bytes", static_cast<long long>(z.wholeBytes))
                    .add("header_and_base_bytes", static_cast<long long>(z.baseBytes))
                    .add("bit_planes", z.planes)

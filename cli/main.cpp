@@ -64,14 +64,16 @@ commands:
                                icosahedron, torus, genus2, genus3, disc, cylinder,
                                valences)
   compress IN -o OUT.osz [--psnr P | --bits-per-vertex B | --bytes N] [--scheme S]
-                 [--wavelets W] [--rings R] [--precision E] [--tangent-weight W]
-                 [--remesh ...]
+                 [--wavelets W] [--rings R] [--psnr-measure surface|vertices]
+                 [--precision E] [--tangent-weight W] [--level-gain G] [--remesh ...]
                                progressive wavelet compression (edge zerotrees of the
                                coefficients in local frames, range coded): cut at a
-                               PSNR (dB, 20 log10(diagonal / vertex RMS)), a size in
-                               bits per vertex or bytes, or whole (about
-                               20 log10(3.5 / E) dB, E default 1e-5); any other
-                               manifold mesh with --remesh as for analyze
+                               PSNR (dB, 20 log10(diagonal / RMS), RMS of the sampled
+                               surface distance, or of corresponding vertices with
+                               --psnr-measure vertices), a size in bits per vertex or
+                               bytes, or whole (the finest step is E times the
+                               diagonal, default 1e-5); any other manifold mesh with
+                               --remesh as for analyze
   decompress IN.osz -o OUT [--bytes N]
                                decode the stream, or only its first N bytes (every
                                prefix holding the header and base mesh decodes)

@@ -8,6 +8,7 @@
 #include "osdmra/codec/local_frames.h"
 #include "osdmra/codec/range_coder.h"
 #include "osdmra/codec/zerotree.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/mra/wavelets.h"
 
 namespace osdmra {
@@ -225,9 +226,12 @@ std::size_t cutFor(const FilterBank& bank, const Encoding& e, const Points& fine
     return lo;
   }
   const double diagonal = boundingBoxDiagonal(finest);
+  const TriMesh reference{finest, bank.hierarchy->faces(bank.hierarchy->levels()), Points()};
   const auto quality = [&](std::size_t n) {
-    return psnr(decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, n), finest,
-                diagonal);
+    const Points c = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, n);
+    return target.measure == PsnrMeasure::Vertices
+               ? psnr(c, finest, diagonal)
+               : surfacePsnr(TriMesh{c, reference.F, Points()}, reference);
   };
   if (quality(all) < target.value)
     throw Error("compress: the whole stream reaches " + std::to_string(quality(all)) +
@@ -254,6 +258,12 @@ double psnr(const Points& decoded, const Points& reference, double diagonal) {
   return 20 * std::log10(diagonal / rms);
 }
 
+double surfacePsnr(const TriMesh& decoded, const TriMesh& reference) {
+  const SurfaceDistance d = surfaceDistance(decoded, reference);
+  if (d.rmsRelative == 0) return std::numeric_limits<double>::infinity();
+  return -20 * std::log10(d.rmsRelative);
+}
+
 Compressed compress(const FilterBank& bank, const Decomposition& d, const Points& finest,
                     const RateTarget& target, const CodecOptions& options) {
   if (!bank.hierarchy || finest.rows() != bank.hierarchy->numVertices(bank.hierarchy->levels()))
@@ -264,8 +274,10 @@ Compressed compress(const FilterBank& bank, const Decomposition& d, const Points
   out.baseBytes = oszSize(e.file.base.size(), 0);
   out.planes = e.file.header.topPlane + 1;
   const std::size_t keep = cutFor(bank, e, finest, target);
-  out.psnr = psnr(decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, keep),
-                  finest, boundingBoxDiagonal(finest));
+  const Points c = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, keep);
+  const Faces& F = bank.hierarchy->faces(bank.hierarchy->levels());
+  out.psnrVertices = psnr(c, finest, boundingBoxDiagonal(finest));
+  out.psnrSurface = surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()});
   e.file.coefficients.resize(keep);
   out.bytes = writeOsz(e.file);
   return out;
@@ -289,6 +301,10 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   Decompressed out;
   out.mesh.V =
       decodePrefix(bank, edgeTree(hier), h, base.V, f.coefficients, f.coefficients.size(), &state);
+  // Finite fields can still multiply out of range (a huge step, a coefficient of
+  // 2^29 steps): such a stream cannot be an encoder's.
+  if (!out.mesh.V.allFinite())
+    throw Error(name + ": the stream decodes to non-finite positions (corrupt quantiser fields)");
   out.mesh.F = hier.faces(h.levels);
   out.scheme = h.scheme;
   out.wavelets = h.wavelets;

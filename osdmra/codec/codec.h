@@ -19,10 +19,10 @@
 // bit for bit as the encoder predicted. A prefix decodes with frames of a coarser
 // c^j, the small price of progressivity.
 //
-// Error measure (PSNR): 20 log10(diagonal / RMS), with RMS the root mean square
-// distance between corresponding vertices of the decoded and the original
-// full-resolution surfaces (the same connectivity) and the diagonal of the
-// original's bounding box.
+// Error measure (PSNR): 20 log10(diagonal / RMS), with the diagonal of the original
+// full-resolution surface's bounding box and RMS the sampled symmetric distance
+// between the decoded and the original surfaces (PsnrMeasure::Surface), or the root
+// mean square distance between their corresponding vertices (Vertices).
 #pragma once
 
 #include <cstddef>
@@ -53,15 +53,29 @@ struct CodecOptions {
   double tangentWeight = 0.25;
 };
 
+/// What the RMS of a PSNR is taken over.
+enum class PsnrMeasure {
+  /// The sampled symmetric distance between the two surfaces (surfaceDistance with
+  /// its default options: 100,000 samples a side plus every vertex), what
+  /// docs/COMPRESSION.md reports: sliding along the surface costs nothing.
+  Surface,
+  /// The distance between corresponding vertices: fast, and counts tangential
+  /// error in full.
+  Vertices,
+};
+
 /// Where to cut the stream: its whole length, a size, or the shortest prefix that
 /// reaches a PSNR.
 struct RateTarget {
   enum class Kind { Whole, Bytes, Psnr };
   Kind kind = Kind::Whole;
-  double value = 0;  ///< bytes (of the whole file), or dB
+  double value = 0;                            ///< bytes (of the whole file), or dB
+  PsnrMeasure measure = PsnrMeasure::Surface;  ///< for Kind::Psnr
   static RateTarget whole() { return {}; }
   static RateTarget bytes(double n) { return {Kind::Bytes, n}; }
-  static RateTarget psnr(double dB) { return {Kind::Psnr, dB}; }
+  static RateTarget psnr(double dB, PsnrMeasure m = PsnrMeasure::Surface) {
+    return {Kind::Psnr, dB, m};
+  }
   /// Bits per vertex of the finest level, as bytes for a surface of `vertices`.
   static RateTarget bitsPerVertex(double b, long long vertices) {
     return {Kind::Bytes, b * static_cast<double>(vertices) / 8};
@@ -73,7 +87,8 @@ struct Compressed {
   std::vector<std::uint8_t> bytes;  ///< the .osz file
   std::size_t wholeBytes = 0;       ///< size of the uncut stream
   std::size_t baseBytes = 0;        ///< header and base mesh (before any coefficient)
-  double psnr = 0;                  ///< of the decode of `bytes` against the input
+  double psnrSurface = 0;           ///< of the decode of `bytes` against the input
+  double psnrVertices = 0;          ///< the same by corresponding vertices
   int planes = 0;                   ///< bit planes in the uncut stream
 };
 
@@ -108,5 +123,8 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
 
 /// 20 log10(diagonal / RMS) over corresponding rows; +inf for identical points.
 double psnr(const Points& decoded, const Points& reference, double diagonal);
+/// 20 log10(1 / rmsRelative) of surfaceDistance(decoded, reference) with its default
+/// options (the reference's diagonal); +inf for identical surfaces.
+double surfacePsnr(const TriMesh& decoded, const TriMesh& reference);
 
 }  // namespace osdmra
