@@ -28,6 +28,7 @@
 #include "osdmra/base/file.h"
 #include "osdmra/codec/codec.h"
 #include "osdmra/geometry/distance.h"
+#include "osdmra/mesh/io.h"
 #include "osdmra/pipeline.h"
 
 using namespace osdmra;
@@ -147,7 +148,10 @@ int main(int argc, char** argv) try {
   input.remeshing.levels = static_cast<int>(args.integer("levels", 5, 1, 8));
   const LoadedSurface s = loadSurface(in, input);
   TriMesh original;
-  if (input.remesh) original = loadSurface(in).mesh;
+  if (input.remesh) {  // the scan as it is, minus the vertices no face uses
+    original = readMesh(in);
+    removeUnreferencedVertices(original);
+  }
   AnalysisOptions options;
   options.approximator = false;
   options.scheme = parseScheme(args.get("scheme", "loop"));
