@@ -277,7 +277,9 @@ Compressed compress(const FilterBank& bank, const Decomposition& d, const Points
   const Points c = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, keep);
   const Faces& F = bank.hierarchy->faces(bank.hierarchy->levels());
   out.psnrVertices = psnr(c, finest, boundingBoxDiagonal(finest));
-  out.psnrSurface = surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()});
+  out.psnrSurface = options.measureSurface
+                        ? surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()})
+                        : std::numeric_limits<double>::quiet_NaN();
   e.file.coefficients.resize(keep);
   out.bytes = writeOsz(e.file);
   return out;

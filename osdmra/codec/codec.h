@@ -47,10 +47,15 @@ struct CodecOptions {
   double levelGain = 2.0;
   /// Weight of the two tangential components relative to the normal one (0, 1]:
   /// below 1 they are quantised more coarsely, since sliding along the surface
-  /// changes its shape less than lifting it off. 0.25 measured best on the bundled
-  /// head by sampled surface distance (docs/COMPRESSION.md: +0.2 dB at 0.75 bits per
-  /// vertex, +2.4 dB at 7, against 0.5); the vertex-to-vertex PSNR prefers 1.
+  /// changes its shape less than lifting it off. Measured on the bundled head by
+  /// sampled surface distance (bench/osdmra_codec_rd --tangent-weight, before the
+  /// spatial contexts), dB at 0.75 / 1.5 / 3.5 / 7 / 10 bits per vertex:
+  /// 0.5: 61.7 / 67.3 / 75.8 / 84.9 / 92.2; 0.25: 61.9 / 67.5 / 76.1 / 87.3 / 94.5;
+  /// 0.125: 61.7 / 67.1 / 75.9 / 87.5 / 95.2. The vertex-to-vertex PSNR prefers 1.
   double tangentWeight = 0.25;
+  /// Measure Compressed::psnrSurface (one sampled surface distance, about as long as
+  /// the encoding on large meshes); NaN when off. PSNR targets measure it anyway.
+  bool measureSurface = true;
 };
 
 /// What the RMS of a PSNR is taken over.
