@@ -26,4 +26,8 @@ int cmdLod(const Argv& argv);
 int cmdSweep(const Argv& argv);
 int cmdDemo(const Argv& argv);
 
+// The progressive geometry codec (codec_commands.cpp).
+int cmdCompress(const Argv& argv);
+int cmdDecompress(const Argv& argv);
+
 }  // namespace osdmra::cli

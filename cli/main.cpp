@@ -1,7 +1,7 @@
 // osdmra: the command-line front end. Thin: every computation is a library call
 // through the pipeline (osdmra/pipeline.h); this file holds the usage and the
 // dispatch to the commands, which live by family in mesh_commands.cpp,
-// analysis_commands.cpp and lod_commands.cpp. Errors are osdmra::Error from
+// analysis_commands.cpp, lod_commands.cpp and codec_commands.cpp. Errors are osdmra::Error from
 // anywhere below, printed as "osdmra: <message>" with exit 1, the library's option
 // names replaced by this tool's flags.
 #include <iostream>
@@ -70,6 +70,20 @@ commands:
   shape NAME -o OUT            write a built-in base mesh (tetrahedron, octahedron,
                                icosahedron, torus, genus2, genus3, disc, cylinder,
                                valences)
+  compress IN -o OUT.osz [--psnr P | --bits-per-vertex B | --bytes N] [--scheme S]
+                 [--wavelets W] [--rings R] [--psnr-measure surface|vertices]
+                 [--precision E] [--tangent-weight W] [--level-gain G] [--remesh ...]
+                               progressive wavelet compression (edge zerotrees of the
+                               coefficients in local frames, range coded): cut at a
+                               PSNR (dB, 20 log10(diagonal / RMS), RMS of the sampled
+                               surface distance, or of corresponding vertices with
+                               --psnr-measure vertices), a size in bits per vertex or
+                               bytes, or whole (the finest step is E times the
+                               diagonal, default 1e-5); any other manifold mesh with
+                               --remesh as for analyze
+  decompress IN.osz -o OUT [--bytes N]
+                               decode the stream, or only its first N bytes (every
+                               prefix holding the header and base mesh decodes)
   demo [IN] [--out DIR] [--remesh ...]
                                the paper's example on the bundled scanned head (or IN,
                                remeshed first with --remesh as for analyze): analyse
@@ -118,6 +132,8 @@ int dispatch(int argc, char** argv) {
   if (command == "shape") return cmdShape(rest);
   if (command == "remesh") return cmdRemesh(rest);
   if (command == "demo") return cmdDemo(rest);
+  if (command == "compress") return cmdCompress(rest);
+  if (command == "decompress") return cmdDecompress(rest);
   std::cerr << "osdmra: unknown command '" << command << "'\n\n" << kUsage;
   return 2;
 }

@@ -1,6 +1,6 @@
 # Checks that the library's folders are layers (README, Layout): a file in a layer
 # includes osdmra headers of its own layer and the layers below it only; mra/ and
-# remesh/ are siblings that do not include each other; public headers include no
+# remesh/ are siblings that do not include each other; codec/ sits on both; public headers include no
 # detail/ header (detail/ is not installed); only subdivision/ talks to OpenSubdiv;
 # nothing in the library includes GL, GLFW or Dear ImGui.
 #
@@ -17,7 +17,8 @@ set(rank_geometry 2)
 set(rank_subdivision 3)
 set(rank_mra 4)
 set(rank_remesh 4)
-set(rank_pipeline 5)
+set(rank_codec 5)
+set(rank_pipeline 6)
 
 function(layer_of path out)
   # osdmra/<layer>/... or osdmra/pipeline.*

@@ -14,6 +14,7 @@ packages=(
   libbenchmark-dev # bench/ (OSDMRA_BUILD_BENCH=ON)
   libglfw3-dev
   libmeshoptimizer-dev # bench/: the simplification peer of level-of-detail extraction
+  libdraco-dev     # bench/: the peer of the geometry codec (Google Draco)
   gnuplot-nox      # osdmra sweep --plot
   libgl-dev        # viewer/: OpenGL
   libimgui-dev     # viewer/: Dear ImGui and its GLFW/OpenGL3 backends (sources)

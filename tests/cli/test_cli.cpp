@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "osdmra/mesh/io.h"
+#include "osdmra/pipeline.h"
 #include "osdmra/subdivision/shapes.h"
 #include "support.h"
 
@@ -313,4 +315,87 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find("vertex 0 is non-manifold"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(path("b.obj")));
+}
+
+// ---- compress / decompress ---------------------------------------------------------
+
+namespace {
+
+// The number after "key": in a one-line JSON object (NaN when absent).
+double jsonNumber(const std::string& json, const std::string& key) {
+  const std::size_t at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
+}  // namespace
+
+TEST_F(Cli, CompressMeetsEachRateTargetWithinFivePercent) {
+  ASSERT_NO_FATAL_FAILURE(
+      makeSurface("icosahedron", "ico.obj", "5 --displace 0.01 --seed 3", "ico5.obj"));
+  const TriMesh input = readMesh(path("ico5.obj"));
+  const double vertices = static_cast<double>(input.V.rows());
+  AnalysisOptions structureOnly;
+  structureOnly.approximator = false;
+  const AnalysedSurface canonical(input, structureOnly);
+  struct Target {
+    std::string flag;
+    double value;
+    std::string text;
+  };
+  for (const Target& t : {Target{"--bytes", 4000, "4000"}, Target{"--bits-per-vertex", 1.5, "1.5"},
+                          Target{"--psnr", 50, "50"}, Target{"--psnr", 70, "70"}}) {
+    SCOPED_TRACE(t.flag + " " + t.text);
+    const Result c = run("compress " + path("ico5.obj") + " " + t.flag + " " + t.text +
+                         " --json -o " + path("ico.osz"));
+    ASSERT_EQ(c.status, 0) << c.err;
+    const double bytes = jsonNumber(c.out, "bytes"), dB = jsonNumber(c.out, "psnr");
+    EXPECT_EQ(bytes, static_cast<double>(fs::file_size(path("ico.osz"))));
+    EXPECT_NEAR(jsonNumber(c.out, "bits_per_vertex"), 8 * bytes / vertices, 1e-9);
+    if (t.flag == "--bytes") {
+      EXPECT_LE(bytes, t.value);
+      EXPECT_GE(bytes, 0.95 * t.value);
+    } else if (t.flag == "--bits-per-vertex") {
+      EXPECT_LE(8 * bytes / vertices, t.value);
+      EXPECT_GE(8 * bytes / vertices, 0.95 * t.value);
+    } else {
+      EXPECT_GE(dB, t.value);
+      EXPECT_LE(dB, 1.05 * t.value);
+    }
+    // The decoder gets the PSNR the encoder reported, measured here independently.
+    // The codec keeps no vertex order of its own: it writes the canonical order of the
+    // structure it recovered (hierarchy.h), which the pipeline recovers here too.
+    const Result d = run("decompress " + path("ico.osz") + " --json -o " + path("back.obj"));
+    ASSERT_EQ(d.status, 0) << d.err;
+    const TriMesh back = readMesh(path("back.obj"));
+    ASSERT_EQ(back.V.rows(), input.V.rows());
+    ASSERT_TRUE(back.F == canonical.hierarchy().faces(5));
+    const Points& original = canonical.canonicalPositions();
+    const double rms = std::sqrt((back.V - original).rowwise().squaredNorm().mean());
+    EXPECT_NEAR(20 * std::log10(boundingBoxDiagonal(original) / rms),
+                jsonNumber(c.out, "psnr_vertices"), 1e-6);
+  }
+}
+
+TEST_F(Cli, DecompressDecodesAPrefixAndRefusesOtherFiles) {
+  ASSERT_NO_FATAL_FAILURE(makeSurface("octahedron", "oct.obj", "4 --displace 0.02", "oct4.obj"));
+  ASSERT_EQ(run("compress " + path("oct4.obj") + " -o " + path("oct.osz")).status, 0);
+  const double whole = static_cast<double>(fs::file_size(path("oct.osz")));
+  const Result d = run("decompress " + path("oct.osz") + " --bytes 400 --json -o " + path("p.obj"));
+  ASSERT_EQ(d.status, 0) << d.err;
+  EXPECT_EQ(jsonNumber(d.out, "bytes"), 400);
+  EXPECT_EQ(jsonNumber(d.out, "file_bytes"), whole);
+  EXPECT_NE(d.out.find("\"cut\": true"), std::string::npos) << d.out;
+  EXPECT_EQ(readMesh(path("p.obj")).F.rows(), 8 * 256);
+  // Not a .osz file, or too short to hold the header: a message, exit 1, no output.
+  for (const std::string& bad : {std::string("oct4.obj"), std::string("oct.osz --bytes 30")}) {
+    const Result r = run("decompress " + path(bad) + " -o " + path("bad.obj"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("osdmra: "), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("bad.obj")));
+  }
+  const Result both =
+      run("compress " + path("oct4.obj") + " --psnr 60 --bytes 900 -o " + path("x.osz"));
+  EXPECT_EQ(both.status, 1);
+  EXPECT_NE(both.err.find("at most one of"), std::string::npos) << both.err;
 }

@@ -1,0 +1,169 @@
+// compress and decompress: the progressive geometry codec (osdmra/codec/codec.h)
+// from the command line.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+
+#include "commands.h"
+#include "common.h"
+#include "osdmra/base/file.h"
+#include "osdmra/codec/codec.h"
+#include "osdmra/mesh/io.h"
+#include "report.h"
+
+namespace osdmra::cli {
+namespace {
+
+// --psnr, --bits-per-vertex or --bytes (at most one); the whole stream otherwise.
+RateTarget rateTarget(const Args& args, long long vertices) {
+  const int given = args.has("psnr") + args.has("bits-per-vertex") + args.has("bytes");
+  if (given > 1) throw Error("compress: give at most one of --psnr, --bits-per-vertex and --bytes");
+  if (args.has("psnr")) {
+    const std::string how = args.get("psnr-measure", "surface");
+    if (how != "surface" && how != "vertices")
+      throw Error("compress: --psnr-measure must be surface or vertices, got '" + how + "'");
+    return RateTarget::psnr(args.real("psnr", 0, 1, 300),
+                            how == "surface" ? PsnrMeasure::Surface : PsnrMeasure::Vertices);
+  }
+  if (args.has("bits-per-vertex"))
+    return RateTarget::bitsPerVertex(args.real("bits-per-vertex", 0, 1e-6, 1e6), vertices);
+  if (args.has("bytes"))
+    return RateTarget::bytes(static_cast<double>(args.integer("bytes", 0, 1, 1LL << 40)));
+  return RateTarget::whole();
+}
+
+CodecOptions codecOptions(const Args& args) {
+  CodecOptions o;
+  o.precision = args.real("precision", o.precision, 1e-9, 0.5);
+  o.tangentWeight = args.real("tangent-weight", o.tangentWeight, 1e-3, 1);
+  o.levelGain = args.real("level-gain", o.levelGain, 1, 4);
+  return o;
+}
+
+std::vector<std::uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open");
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                  std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(path + ": read error");
+  return bytes;
+}
+
+double bitsPerVertex(std::size_t bytes, long long vertices) {
+  return 8.0 * static_cast<double>(bytes) / static_cast<double>(vertices);
+}
+
+}  // namespace
+
+int cmdCompress(const Argv& argv) {
+  Args args("compress", argv,
+            {"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme", "wavelets", "rings",
+             "precision", "tangent-weight", "level-gain", "psnr-measure", "base-faces",
+             "feature-angle", "samples", "seed"},
+            flags({"remesh"}));
+  args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
+  const Common opt = common(args);
+  const std::string in = args.positional()[0], out = args.require("output");
+  AnalysisOptions options = analysisOptions(args);
+  options.approximator = false;
+  const CodecOptions codec = codecOptions(args);
+  const auto t0 = Clock::now();
+  const LoadedSurface s = loadInput(in, args, opt);
+  const double tRead = seconds(t0);
+  const AnalysedSurface a(s.mesh, options, in, opt.progress);
+  const long long vertices = a.hierarchy().numVertices(a.levels());
+  const RateTarget target = rateTarget(args, vertices);
+  const auto t1 = Clock::now();
+  const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+  const double tEncode = seconds(t1);
+  writeFileAtomically(out, [&](std::ostream& o) {
+    o.write(reinterpret_cast<const char*>(z.bytes.data()),
+            static_cast<std::streamsize>(z.bytes.size()));
+  });
+  if (!opt.json) {
+    if (s.remeshing) printRemesh(in, *s.remeshing);
+    std::printf("%s: %lld vertices, %d %s levels over %d base faces\n", in.c_str(), vertices,
+                a.levels(), schemeName(a.bank().scheme), a.hierarchy().numFaces(0));
+    std::printf(
+        "wrote %s: %zu bytes (%.3f bits per vertex), PSNR %.2f dB (surface distance); whole stream "
+        "%zu bytes\n",
+        out.c_str(), z.bytes.size(), bitsPerVertex(z.bytes.size(), vertices), z.psnrSurface,
+        z.wholeBytes);
+    std::printf("time: read %.3f s, analysis %.3f s, encoding %.3f s\n", tRead, a.times().total(),
+                tEncode);
+    return 0;
+  }
+  Json j = startJson(s);
+  std::cout << j.add("command", "compress")
+                   .add("input", in)
+                   .add("output", out)
+                   .add("scheme", schemeName(a.bank().scheme))
+                   .add("wavelets", waveletKindName(a.bank().wavelets.kind))
+                   .add("rings", a.bank().wavelets.rings)
+                   .add("levels", a.levels())
+                   .add("vertices", vertices)
+                   .add("faces", a.hierarchy().numFaces(a.levels()))
+                   .add("bytes", static_cast<long long>(z.bytes.size()))
+                   .add("bits_per_vertex", bitsPerVertex(z.bytes.size(), vertices))
+                   .add("psnr", z.psnrSurface)
+                   .add("psnr_vertices", z.psnrVertices)
+                   .add("whole_bytes", static_cast<long long>(z.wholeBytes))
+                   .add("header_and_base_bytes", static_cast<long long>(z.baseBytes))
+                   .add("bit_planes", z.planes)
+                   .add("seconds", Json::object()
+                                       .add("read", tRead)
+                                       .add("analysis", a.times().total())
+                                       .add("encode", tEncode))
+                   .str()
+            << "\n";
+  return 0;
+}
+
+int cmdDecompress(const Argv& argv) {
+  Args args("decompress", argv, {"output", "bytes"}, flags());
+  args.expectPositional(1, "one compressed surface: osdmra decompress IN.osz -o OUT");
+  const Common opt = common(args);
+  const std::string in = args.positional()[0], out = args.require("output");
+  meshFormatFromPath(out);  // refuse a bad output name before the work
+  const auto t0 = Clock::now();
+  std::vector<std::uint8_t> bytes = readBytes(in);
+  const std::size_t size = bytes.size();
+  if (args.has("bytes"))
+    bytes.resize(std::min<std::size_t>(bytes.size(), args.integer("bytes", 0, 0, 1LL << 40)));
+  const double tRead = seconds(t0);
+  const auto t1 = Clock::now();
+  const Decompressed d = decompress(bytes.data(), bytes.size(), in);
+  const double tDecode = seconds(t1);
+  writeMesh(out, d.mesh);
+  const long long vertices = d.mesh.V.rows();
+  if (!opt.json) {
+    std::printf("%s: %zu of %zu bytes, %d of %d bit planes%s\n", in.c_str(), bytes.size(), size,
+                d.planesDecoded, d.planes, d.cut ? " (a prefix)" : "");
+    std::printf("wrote %s: %lld vertices, %d faces (%d %s levels); decoding %.3f s\n", out.c_str(),
+                vertices, static_cast<int>(d.mesh.F.rows()), d.levels, schemeName(d.scheme),
+                tDecode);
+    return 0;
+  }
+  std::cout << Json::object()
+                   .add("command", "decompress")
+                   .add("input", in)
+                   .add("output", out)
+                   .add("bytes", static_cast<long long>(bytes.size()))
+                   .add("file_bytes", static_cast<long long>(size))
+                   .add("bits_per_vertex", bitsPerVertex(bytes.size(), vertices))
+                   .add("cut", d.cut)
+                   .add("complete", d.complete)
+                   .add("bit_planes", d.planes)
+                   .add("bit_planes_decoded", d.planesDecoded)
+                   .add("scheme", schemeName(d.scheme))
+                   .add("levels", d.levels)
+                   .add("vertices", vertices)
+                   .add("faces", static_cast<int>(d.mesh.F.rows()))
+                   .add("seconds", Json::object().add("read", tRead).add("decode", tDecode))
+                   .str()
+            << "\n";
+  return 0;
+}
+
+}  // namespace osdmra::cli

@@ -1,0 +1,135 @@
+// The progressive wavelet geometry codec: a surface with subdivision connectivity,
+// analysed by a filter bank (mra/filter_bank.h), to a .osz stream (osz_format.h)
+// whose every prefix decodes to the same connectivity with coarser geometry.
+//
+// After Khodakovsky, Schroder and Sweldens, "Progressive Geometry Compression"
+// (SIGGRAPH 2000):
+//   1. the base mesh: connectivity, and c^0 quantised finely (it moves everything);
+//   2. the wavelet coefficients d^j, expressed in local frames of the surface the
+//      decoder has already rebuilt (local_frames.h), weighted so that one step of
+//      quantisation costs about the same error at every level and more on the
+//      normal component than the tangential ones, quantised by one uniform step;
+//   3. their bit planes, coarse planes first, by an edge zerotree (zerotree.h) and a
+//      context-adaptive range coder (range_coder.h).
+// The connectivity of levels 1..J costs nothing: it follows from the base and J.
+//
+// The frames of level j come from c^j as the decoder rebuilds it, so the encoder
+// rebuilds the same c^j from the quantised coefficients ("closed loop") before it
+// expresses d^j in them: a complete stream decodes to within the quantisation bound,
+// bit for bit as the encoder predicted. A prefix decodes with frames of a coarser
+// c^j, the small price of progressivity.
+//
+// Error measure (PSNR): 20 log10(diagonal / RMS), with the diagonal of the original
+// full-resolution surface's bounding box and RMS the sampled symmetric distance
+// between the decoded and the original surfaces (PsnrMeasure::Surface), or the root
+// mean square distance between their corresponding vertices (Vertices).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "osdmra/codec/osz_format.h"
+#include "osdmra/mra/filter_bank.h"
+
+namespace osdmra {
+
+struct CodecOptions {
+  /// Finest quantisation step of a normal component at the finest level, relative to
+  /// the bounding-box diagonal: a complete stream is within about this of the input
+  /// (PSNR about 20 log10(sqrt(12) / precision), 109 dB at 1e-5). Rate targets cut
+  /// the stream earlier.
+  double precision = 1e-5;
+  /// Coefficients of level j are weighted levelGain^(J-1-j) before quantisation, so a
+  /// coarse coefficient, which moves a larger region, is coded more precisely. 2 is
+  /// the L2 norm ratio of scaling functions one level apart (support area 1/4).
+  double levelGain = 2.0;
+  /// Weight of the two tangential components relative to the normal one (0, 1]:
+  /// below 1 they are quantised more coarsely, since sliding along the surface
+  /// changes its shape less than lifting it off. Measured on the bundled head by
+  /// sampled surface distance (bench/osdmra_codec_rd --tangent-weight, before the
+  /// spatial contexts), dB at 0.75 / 1.5 / 3.5 / 7 / 10 bits per vertex:
+  /// 0.5: 61.7 / 67.3 / 75.8 / 84.9 / 92.2; 0.25: 61.9 / 67.5 / 76.1 / 87.3 / 94.5;
+  /// 0.125: 61.7 / 67.1 / 75.9 / 87.5 / 95.2. The vertex-to-vertex PSNR prefers 1.
+  double tangentWeight = 0.25;
+  /// Measure Compressed::psnrSurface (one sampled surface distance, about as long as
+  /// the encoding on large meshes); NaN when off. PSNR targets measure it anyway.
+  bool measureSurface = true;
+};
+
+/// What the RMS of a PSNR is taken over.
+enum class PsnrMeasure {
+  /// The sampled symmetric distance between the two surfaces (surfaceDistance with
+  /// its default options: 100,000 samples a side plus every vertex), what
+  /// docs/COMPRESSION.md reports: sliding along the surface costs nothing.
+  Surface,
+  /// The distance between corresponding vertices: fast, and counts tangential
+  /// error in full.
+  Vertices,
+};
+
+/// Where to cut the stream: its whole length, a size, or the shortest prefix that
+/// reaches a PSNR.
+struct RateTarget {
+  enum class Kind { Whole, Bytes, Psnr };
+  Kind kind = Kind::Whole;
+  double value = 0;                            ///< bytes (of the whole file), or dB
+  PsnrMeasure measure = PsnrMeasure::Surface;  ///< for Kind::Psnr
+  static RateTarget whole() { return {}; }
+  static RateTarget bytes(double n) { return {Kind::Bytes, n}; }
+  static RateTarget psnr(double dB, PsnrMeasure m = PsnrMeasure::Surface) {
+    return {Kind::Psnr, dB, m};
+  }
+  /// Bits per vertex of the finest level, as bytes for a surface of `vertices`.
+  static RateTarget bitsPerVertex(double b, long long vertices) {
+    return {Kind::Bytes, b * static_cast<double>(vertices) / 8};
+  }
+};
+
+/// What compress() made.
+struct Compressed {
+  std::vector<std::uint8_t> bytes;  ///< the .osz file
+  std::size_t wholeBytes = 0;       ///< size of the uncut stream
+  std::size_t baseBytes = 0;        ///< header and base mesh (before any coefficient)
+  double psnrSurface = 0;           ///< of the decode of `bytes` against the input
+  double psnrVertices = 0;          ///< the same by corresponding vertices
+  int planes = 0;                   ///< bit planes in the uncut stream
+};
+
+/// Encodes the surface `d` (the analysis of `finest` by `bank`) and cuts the stream
+/// at `target`. `finest` (canonical order) is the reference of the PSNR. Throws
+/// Error when the target cannot be met: a size below the header and base mesh, or a
+/// PSNR above what the whole stream reaches (raise precision).
+Compressed compress(const FilterBank& bank, const Decomposition& d, const Points& finest,
+                    const RateTarget& target = {}, const CodecOptions& options = {});
+
+struct DecodeOptions {
+  /// Refuse streams whose finest level has more triangles than this (the decoder
+  /// allocates the whole hierarchy; a few bytes can describe a huge mesh).
+  long long maxFaces = 1LL << 24;
+};
+
+/// A decoded stream.
+struct Decompressed {
+  TriMesh mesh;  ///< level J, canonical order (hierarchy.h)
+  Scheme scheme = Scheme::Loop;
+  WaveletOptions wavelets;
+  int levels = 0;
+  bool cut = false;       ///< the bytes end before the stream does
+  bool complete = false;  ///< every bit plane was decoded
+  int planes = 0, planesDecoded = 0;
+};
+
+/// Decodes a .osz stream or any prefix of one that holds its header and base mesh.
+/// Throws Error, starting with `name`, for anything else.
+Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::string& name,
+                        const DecodeOptions& options = {});
+
+/// 20 log10(diagonal / RMS) over corresponding rows; +inf for identical points.
+double psnr(const Points& decoded, const Points& reference, double diagonal);
+/// 20 log10(1 / rmsRelative) of surfaceDistance(decoded, reference) with its default
+/// options (the reference's diagonal); +inf for identical surfaces.
+double surfacePsnr(const TriMesh& decoded, const TriMesh& reference);
+
+}  // namespace osdmra

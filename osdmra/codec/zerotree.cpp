@@ -1,0 +1,321 @@
+#include "osdmra/codec/zerotree.h"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "osdmra/base/error.h"
+
+namespace osdmra {
+
+// ---- The tree ------------------------------------------------------------------------
+
+namespace {
+
+// Index in M^{j+1} of edge i of face g of M^{j+1}, read off the children of g in
+// M^{j+2} (hierarchy.h: child 4g is (w0, m0, m2), child 4g+1 is (m0, w1, m1)).
+int childLevelEdge(const Hierarchy& h, int j, int g, int i) {
+  const Faces& F = h.faces(j + 2);
+  const int m = i == 0 ? F(4 * g, 1) : i == 1 ? F(4 * g + 1, 2) : F(4 * g, 2);
+  return m - h.numVertices(j + 1);
+}
+
+void addChild(std::array<int, 4>& slots, int child) {
+  for (int& s : slots)
+    if (s == child) return;
+  for (int& s : slots)
+    if (s < 0) {
+      s = child;
+      return;
+    }
+  throw Error("edge tree: an edge with more than four children or neighbours");
+}
+
+// The children of level j's edges. Face f = (v0, v1, v2) of M^j has children 4f..4f+3
+// in M^{j+1}: (v0, m0, m2), (m0, v1, m1), (m2, m1, v2), (m1, m2, m0). Its edge i (from
+// v_i to v_{i+1}) is halved into edge i of child i and edge i of child i+1 (mod 3),
+// and the centre child's edge i is parallel to it.
+std::vector<std::array<int, 4>> levelChildren(const Hierarchy& h, int j) {
+  const Faces& F = h.faces(j);
+  const Faces& fine = h.faces(j + 1);
+  const int n = h.numVertices(j);
+  std::vector<std::array<int, 4>> out(h.numVertices(j + 1) - n, {-1, -1, -1, -1});
+  for (int f = 0; f < F.rows(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const int mid = i == 0 ? fine(4 * f, 1) : i == 1 ? fine(4 * f + 1, 2) : fine(4 * f, 2);
+      std::array<int, 4>& slots = out[mid - n];
+      addChild(slots, childLevelEdge(h, j, 4 * f + i, i));
+      addChild(slots, childLevelEdge(h, j, 4 * f + (i + 1) % 3, i));
+      addChild(slots, childLevelEdge(h, j, 4 * f + 3, i));
+    }
+  return out;
+}
+
+// The edges beside each edge of M^j: the two others of each triangle it borders.
+std::vector<std::array<int, 4>> levelNeighbours(const Hierarchy& h, int j) {
+  const Faces& F = h.faces(j);
+  const Faces& fine = h.faces(j + 1);
+  const int n = h.numVertices(j);
+  std::vector<std::array<int, 4>> out(h.numVertices(j + 1) - n, {-1, -1, -1, -1});
+  for (int f = 0; f < F.rows(); ++f) {
+    const int e[3] = {fine(4 * f, 1) - n, fine(4 * f + 1, 2) - n, fine(4 * f, 2) - n};
+    for (int i = 0; i < 3; ++i) {
+      addChild(out[e[i]], e[(i + 1) % 3]);
+      addChild(out[e[i]], e[(i + 2) % 3]);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+EdgeTree edgeTree(const Hierarchy& h) {
+  EdgeTree t;
+  const int J = h.levels();
+  for (int j = 0; j < J; ++j) t.edges.push_back(h.numVertices(j + 1) - h.numVertices(j));
+  for (int j = 0; j + 1 < J; ++j) t.children.push_back(levelChildren(h, j));
+  for (int j = 0; j < J; ++j) t.neighbours.push_back(levelNeighbours(h, j));
+  return t;
+}
+
+int topPlane(const QuantisedLevels& q) {
+  std::int64_t largest = 0;
+  for (const auto& level : q)
+    for (std::int32_t v : level) largest = std::max<std::int64_t>(largest, std::llabs(v));
+  if (largest >= (std::int64_t{1} << kMaxPlanes))
+    throw Error("zerotree: a coefficient needs more than " + std::to_string(kMaxPlanes) +
+                " bit planes");
+  int top = -1;
+  while (largest >> (top + 1)) ++top;
+  return top;
+}
+
+// ---- The traversal, shared by encoder and decoder --------------------------------
+
+namespace {
+
+constexpr int kLevelContexts = 8;
+
+// The adaptive contexts of every kind of decision.
+struct Contexts {
+  // [level][component class][parent significant]; the class is 0 for the normal
+  // component, 1 for a tangential one whose normal is insignificant, 2 otherwise.
+  // [significant neighbours: 0, 1, 2 or more]
+  BitModel significance[kLevelContexts][3][2][3];
+  // [level][component class][the node itself significant][neighbours with a
+  // significant subtree: 0, 1, 2 or more]
+  BitModel subtree[kLevelContexts][3][2][3];
+  // [level][normal or tangential][first refinement of this node]
+  BitModel refinement[kLevelContexts][2][2];
+};
+
+// Everything both sides know, updated identically.
+struct State {
+  std::vector<std::vector<std::int32_t>> high;
+  std::vector<std::vector<std::int8_t>> plane, sign, born;
+  std::vector<std::vector<std::uint8_t>> reached, subtree, parentSig;
+  int planesDone = 0;
+  bool complete = false;
+
+  explicit State(const EdgeTree& t) {
+    for (int E : t.edges) {
+      const std::size_t n = 3 * static_cast<std::size_t>(E);
+      high.emplace_back(n, 0);
+      plane.emplace_back(n, -1);
+      sign.emplace_back(n, 1);
+      born.emplace_back(n, -1);
+      reached.emplace_back(n, 0);
+      subtree.emplace_back(n, 0);
+      parentSig.emplace_back(n, 0);
+    }
+    if (!reached.empty()) std::fill(reached[0].begin(), reached[0].end(), 1);
+  }
+};
+
+// How many edges beside node i (same component) are significant, or with `subtree`
+// have a subtree known to be, capped at 2.
+int neighbourCount(const EdgeTree& t, const State& s, int j, std::size_t i, bool subtree) {
+  int count = 0;
+  for (int e : t.neighbours[j][i / 3])
+    if (e >= 0) {
+      const std::size_t k = 3 * static_cast<std::size_t>(e) + i % 3;
+      count += subtree ? s.subtree[j][k] != 0 : s.born[j][k] >= 0;
+    }
+  return std::min(count, 2);
+}
+
+int componentClass(const State& s, int j, std::size_t i) {
+  const std::size_t c = i % 3;
+  if (c == 0) return 0;
+  return s.born[j][i - c] >= 0 ? 2 : 1;
+}
+
+// One node's sorting-pass events: its significance, then its subtree's. Returns
+// false when the coder stopped (a cut stream), with nothing half-applied.
+template <class Io>
+bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts& ctx, Io& io) {
+  const int lc = std::min(j, kLevelContexts - 1), cls = componentClass(s, j, i);
+  if (s.born[j][i] < 0) {
+    BitModel& m = ctx.significance[lc][cls][s.parentSig[j][i]][neighbourCount(t, s, j, i, false)];
+    const int bit = io.significant(m, j, i, p);
+    if (io.stopped()) return false;
+    if (bit) {
+      const int negative = io.sign(j, i);
+      if (io.stopped()) return false;
+      s.born[j][i] = s.plane[j][i] = static_cast<std::int8_t>(p);
+      s.high[j][i] = 1;
+      s.sign[j][i] = negative ? -1 : 1;
+    }
+  }
+  if (j + 1 < static_cast<int>(t.edges.size()) && !s.subtree[j][i]) {
+    const int self = s.born[j][i] >= 0;
+    const int bit =
+        io.subtree(ctx.subtree[lc][cls][self][neighbourCount(t, s, j, i, true)], j, i, p);
+    if (io.stopped()) return false;
+    if (bit) {
+      s.subtree[j][i] = 1;
+      for (int child : t.children[j][i / 3])
+        if (child >= 0) {
+          const std::size_t k = 3 * static_cast<std::size_t>(child) + i % 3;
+          s.reached[j + 1][k] = 1;
+          s.parentSig[j + 1][k] = static_cast<std::uint8_t>(self);
+        }
+    }
+  }
+  return true;
+}
+
+template <class Io>
+bool sortingPass(const EdgeTree& t, int p, State& s, Contexts& ctx, Io& io) {
+  for (int j = 0; j < static_cast<int>(t.edges.size()); ++j)
+    for (std::size_t i = 0; i < s.reached[j].size(); ++i)
+      if (s.reached[j][i] && !sortNode(t, j, i, p, s, ctx, io)) return false;
+  return true;
+}
+
+template <class Io>
+bool refinementPass(int p, State& s, Contexts& ctx, Io& io) {
+  for (std::size_t j = 0; j < s.born.size(); ++j)
+    for (std::size_t i = 0; i < s.born[j].size(); ++i) {
+      if (s.born[j][i] <= p) continue;  // insignificant (-1) or new in this plane
+      const int lc = std::min(static_cast<int>(j), kLevelContexts - 1);
+      const int first = s.born[j][i] == p + 1;
+      BitModel& m = ctx.refinement[lc][i % 3 == 0 ? 0 : 1][first];
+      const int bit = io.refinement(m, static_cast<int>(j), i, p);
+      if (io.stopped()) return false;
+      s.high[j][i] = 2 * s.high[j][i] + bit;
+      s.plane[j][i] = static_cast<std::int8_t>(p);
+    }
+  return true;
+}
+
+template <class Io>
+void runPlanes(const EdgeTree& t, int top, State& s, Io& io) {
+  Contexts ctx;
+  for (int p = top; p >= 0; --p) {
+    if (!sortingPass(t, p, s, ctx, io) || !refinementPass(p, s, ctx, io)) return;
+    ++s.planesDone;
+  }
+  s.complete = true;
+}
+
+// The encoder's side: answers from the coefficients, written to the range coder.
+class EncoderIo {
+ public:
+  EncoderIo(const EdgeTree& t, const QuantisedLevels& q, RangeEncoder& enc)
+      : q_(q), enc_(enc), below_(descendantMaxima(t, q)) {}
+  bool stopped() const { return false; }
+  int significant(BitModel& m, int j, std::size_t i, int p) {
+    return put(m, (magnitude(j, i) >> p) != 0);
+  }
+  int subtree(BitModel& m, int j, std::size_t i, int p) { return put(m, (below_[j][i] >> p) != 0); }
+  int sign(int j, std::size_t i) {
+    const int negative = q_[j][i] < 0;
+    enc_.encodeEven(negative);
+    return negative;
+  }
+  int refinement(BitModel& m, int j, std::size_t i, int p) {
+    return put(m, static_cast<int>((magnitude(j, i) >> p) & 1));
+  }
+
+ private:
+  std::int64_t magnitude(int j, std::size_t i) const { return std::llabs(q_[j][i]); }
+  int put(BitModel& m, int bit) {
+    enc_.encode(m, bit);
+    return bit;
+  }
+  // The largest |q| strictly below each node, bottom-up.
+  static std::vector<std::vector<std::int64_t>> descendantMaxima(const EdgeTree& t,
+                                                                 const QuantisedLevels& q) {
+    std::vector<std::vector<std::int64_t>> below(q.size());
+    for (std::size_t j = 0; j < q.size(); ++j) below[j].assign(q[j].size(), 0);
+    for (int j = static_cast<int>(t.children.size()) - 1; j >= 0; --j)
+      for (std::size_t i = 0; i < below[j].size(); ++i)
+        for (int child : t.children[j][i / 3])
+          if (child >= 0) {
+            const std::size_t k = 3 * static_cast<std::size_t>(child) + i % 3;
+            below[j][i] = std::max(
+                {below[j][i], below[j + 1][k], static_cast<std::int64_t>(std::llabs(q[j + 1][k]))});
+          }
+    return below;
+  }
+
+  const QuantisedLevels& q_;
+  RangeEncoder& enc_;
+  std::vector<std::vector<std::int64_t>> below_;
+};
+
+// The decoder's side: answers from the range decoder.
+class DecoderIo {
+ public:
+  explicit DecoderIo(RangeDecoder& dec) : dec_(dec) {}
+  bool stopped() const { return dec_.exhausted(); }
+  int significant(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
+  int subtree(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
+  int sign(int, std::size_t) { return dec_.decodeEven(); }
+  int refinement(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
+
+ private:
+  RangeDecoder& dec_;
+};
+
+}  // namespace
+
+void encodeZerotree(const EdgeTree& tree, const QuantisedLevels& q, int top, RangeEncoder& enc) {
+  if (q.size() != tree.edges.size())
+    throw Error("zerotree: " + std::to_string(q.size()) + " levels of coefficients for a tree of " +
+                std::to_string(tree.edges.size()));
+  for (std::size_t j = 0; j < q.size(); ++j)
+    if (q[j].size() != 3 * static_cast<std::size_t>(tree.edges[j]))
+      throw Error("zerotree: level " + std::to_string(j) + " has the wrong coefficient count");
+  if (top < topPlane(q)) throw Error("zerotree: the top plane is below the largest coefficient");
+  State s(tree);
+  EncoderIo io(tree, q, enc);
+  runPlanes(tree, top, s, io);
+}
+
+ZerotreeState decodeZerotree(const EdgeTree& tree, int top, RangeDecoder& dec) {
+  if (top >= kMaxPlanes) throw Error("zerotree: top plane " + std::to_string(top) + " too large");
+  State s(tree);
+  DecoderIo io(dec);
+  runPlanes(tree, top, s, io);
+  ZerotreeState out;
+  out.high = std::move(s.high);
+  out.plane = std::move(s.plane);
+  out.sign = std::move(s.sign);
+  out.planesDone = s.planesDone;
+  out.complete = s.complete;
+  return out;
+}
+
+std::vector<std::vector<double>> reconstruct(const ZerotreeState& s) {
+  std::vector<std::vector<double>> out(s.high.size());
+  for (std::size_t j = 0; j < s.high.size(); ++j) {
+    out[j].assign(s.high[j].size(), 0.0);
+    for (std::size_t i = 0; i < s.high[j].size(); ++i)
+      if (s.plane[j][i] >= 0)
+        out[j][i] = s.sign[j][i] * (s.high[j][i] + 0.5) * static_cast<double>(1 << s.plane[j][i]);
+  }
+  return out;
+}
+
+}  // namespace osdmra

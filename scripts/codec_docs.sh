@@ -1,0 +1,31 @@
+#!/bin/sh
+# Regenerates docs/COMPRESSION.md and its plots: rate-distortion of osdmra's codec and
+# of Draco on the bundled head (both schemes) and on J = 5 remeshes (about 300 base
+# faces) of five public scans of ../shared/data/scans (or $SCANS).
+#
+#   scripts/codec_docs.sh [BUILD_DIR]   (default: build, configured with
+#                                        -DOSDMRA_BUILD_BENCH=ON; needs libdraco-dev
+#                                        and gnuplot)
+# About 25 minutes on 2 cores. The CSV files stay in docs/compression-data/.
+set -eu
+build=${1:-build}
+scans=${SCANS:-../shared/data/scans}
+cmake --build "$build" -j2 --target osdmra_codec_rd
+work=docs/compression-data  # the measurements the tables and plots are made from
+mkdir -p "$work"
+rm -f "$work"/*.csv
+rd="$build/bench/osdmra_codec_rd"
+"$rd" data/igea-oct6.obj --name igea-loop --scheme loop --csv "$work/1-igea-loop.csv"
+"$rd" data/igea-oct6.obj --name igea-linear --scheme linear --csv "$work/2-igea-linear.csv"
+# Lazy wavelets: no correction to compute, so a faster decoder, at a cost in PSNR.
+"$rd" data/igea-oct6.obj --name igea-loop-lazy --wavelets lazy --csv "$work/3-igea-loop-lazy.csv"
+"$rd" "$scans/spot.obj" --remesh --base-faces 300 --levels 5 --name spot-lazy --wavelets lazy \
+  --csv "$work/4-spot-lazy.csv"
+i=5
+for name in stanford-bunny spot rocker-arm fandisk armadillo; do
+  "$rd" "$scans/$name.obj" --remesh --base-faces 300 --levels 5 --name "$name" \
+    --csv "$work/$i-$name.csv"
+  i=$((i + 1))
+done
+python3 scripts/codec_docs.py docs/COMPRESSION.md docs/images "$work"/*.csv
+echo "wrote docs/COMPRESSION.md"
