@@ -17,6 +17,7 @@
 #include <memory>
 #include <random>
 
+#include "meshopt_peer.h"
 #include "osdmra/base/bundled_data.h"
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/io.h"
@@ -234,21 +235,7 @@ void bmRemesh(benchmark::State& state) {
 // The peer: meshoptimizer simplifying the same mesh to the same base size, which
 // gives a coarse mesh but no parameterisation and no remeshed surface.
 void bmMeshoptToBase(benchmark::State& state) {
-  const TriMesh& m = remeshInput();
-  std::vector<float> positions;
-  std::vector<unsigned> indices, out(3 * m.F.rows());
-  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
-    for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(m.V(i, k)));
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<unsigned>(m.F(f, k)));
-  std::size_t count = 0;
-  for (auto _ : state) {
-    float error = 0;
-    count = meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
-                             positions.size() / 3, 3 * sizeof(float), 3 * 300, 1.0f, 0, &error);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.counters["faces"] = static_cast<double>(count / 3);
+  bench::bmMeshoptToFaces(state, remeshInput(), 300);
 }
 
 int main(int argc, char** argv) {

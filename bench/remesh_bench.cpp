@@ -6,7 +6,6 @@
 //   osdmra_remesh_bench [google benchmark flags]   (scans: $OSDMRA_SCANS, default
 //   ../shared/data/scans; every .obj, .off and .ply that is a manifold mesh)
 #include <benchmark/benchmark.h>
-#include <meshoptimizer.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -14,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "meshopt_peer.h"
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/mesh/mesh.h"
@@ -36,24 +36,6 @@ void bmRemesh(benchmark::State& state, const TriMesh& m) {
   }
   state.counters["input_faces"] = static_cast<double>(m.F.rows());
   state.counters["base_faces"] = static_cast<double>(r.base.F.rows());
-}
-
-void bmMeshoptToBase(benchmark::State& state, const TriMesh& m) {
-  std::vector<float> positions;
-  std::vector<unsigned> indices, out(3 * m.F.rows());
-  for (Eigen::Index i = 0; i < m.V.rows(); ++i)
-    for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(m.V(i, k)));
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) indices.push_back(static_cast<unsigned>(m.F(f, k)));
-  std::size_t count = 0;
-  for (auto _ : state) {
-    float error = 0;
-    count =
-        meshopt_simplify(out.data(), indices.data(), indices.size(), positions.data(),
-                         positions.size() / 3, 3 * sizeof(float), 3 * kBaseFaces, 1.0f, 0, &error);
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.counters["faces"] = static_cast<double>(count / 3);
 }
 
 }  // namespace
@@ -85,8 +67,9 @@ int main(int argc, char** argv) {
         ->MeasureProcessCPUTime()
         ->UseRealTime()
         ->Iterations(1);
-    benchmark::RegisterBenchmark(("MeshoptSimplifyToBase/" + name).c_str(),
-                                 [m](benchmark::State& s) { bmMeshoptToBase(s, *m); })
+    benchmark::RegisterBenchmark(
+        ("MeshoptSimplifyToBase/" + name).c_str(),
+        [m](benchmark::State& s) { bench::bmMeshoptToFaces(s, *m, kBaseFaces); })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(3);
   }
