@@ -74,7 +74,7 @@ class Simplifier {
   bool hasEdge(int a, int b) const;
   bool plan(int v, Ring r, Plan& p);
   bool placePoints(int v, Plan& p);
-  bool boundedDistortion(int v, const Plan& p);
+  bool boundedDistortion(const Plan& p);
   void commit(int v, const Plan& p);
   const StageLimits& limits() const { return stages_[stage_]; }
 
@@ -208,7 +208,7 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
       const int x = p.vertex(ka), y = p.vertex(kb);
       if (x == y || (!ringEdge && hasEdge(x, y))) return false;
     }
-  return placePoints(v, p) && (fold_[v] || boundedDistortion(v, p));
+  return placePoints(v, p) && (fold_[v] || boundedDistortion(p));
 }
 
 // Every parameterised point of the old faces, and v itself (the origin), at its place
@@ -245,8 +245,7 @@ bool Simplifier::placePoints(int v, Plan& p) {
 // The input triangles that come to lie inside one new face: their map onto that face
 // (laid flat) may not be more anisotropic than the stage allows. Corners that are
 // vertices of the new face count as inside it.
-bool Simplifier::boundedDistortion(int v, const Plan& p) {
-  (void)v;
+bool Simplifier::boundedDistortion(const Plan& p) {
   std::vector<std::array<Vec2, 3>> charts(p.triangles.size());
   for (std::size_t q = 0; q < p.triangles.size(); ++q) {
     const auto& t = p.triangles[q];
