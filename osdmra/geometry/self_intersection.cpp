@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
-#include "osdmra/geometry/distance.h"
 #include "osdmra/base/detail/parallel.h"
+#include "osdmra/geometry/distance.h"
 
 namespace osdmra {
 
@@ -88,6 +88,46 @@ SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
     for (const auto& p : found[c])
       if (static_cast<int>(out.pairs.size()) < maxListed) out.pairs.push_back(p);
   }
+  return out;
+}
+
+std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,
+                                                      const std::vector<int>& faces) {
+  if (faces.empty()) return {};
+  TriMesh subset;
+  subset.V = mesh.V;
+  subset.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  std::vector<char> in(static_cast<std::size_t>(mesh.F.rows()), 0);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    subset.F.row(static_cast<Eigen::Index>(i)) = mesh.F.row(faces[i]);
+    in[faces[i]] = 1;
+  }
+  const TriangleBvh bvh(subset);
+  const int nf = static_cast<int>(mesh.F.rows());
+  const int chunks = numChunks(nf, 1 << 12);
+  std::vector<std::vector<std::array<int, 2>>> found(chunks);
+  forChunks(nf, chunks, [&](int chunk, int begin, int end) {
+    std::vector<int> near;
+    for (int f = begin; f < end; ++f) {
+      const Vec3 a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                 c = mesh.V.row(mesh.F(f, 2));
+      near.clear();
+      bvh.facesInBox(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), near);
+      for (int i : near) {
+        const int g = faces[i];
+        // A pair of two faces of the subset is found from both: kept from the first.
+        if (g == f || (in[f] && g < f)) continue;
+        const int lo = std::min(f, g), hi = std::max(f, g);
+        if (trianglesMeet(mesh.V, {mesh.F(lo, 0), mesh.F(lo, 1), mesh.F(lo, 2)},
+                          {mesh.F(hi, 0), mesh.F(hi, 1), mesh.F(hi, 2)}))
+          found[chunk].push_back({lo, hi});
+      }
+    }
+  });
+  std::vector<std::array<int, 2>> out;
+  for (const auto& part : found) out.insert(out.end(), part.begin(), part.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 

@@ -31,4 +31,10 @@ bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::arra
 /// Error for a mesh without faces.
 SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed = 16);
 
+/// Every pair {f, g} (f < g) of SelfIntersections::count with f or g among `faces`
+/// (indices of rows of mesh.F), sorted: what a recount would change after the corners
+/// of `faces` moved, at the cost of a bounding volume hierarchy over `faces` alone.
+std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,
+                                                      const std::vector<int>& faces);
+
 }  // namespace osdmra

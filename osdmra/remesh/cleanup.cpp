@@ -95,11 +95,15 @@ class Cleaner {
   bool defective(Eigen::Index f) const { return bad(f) || faceCrosses(f); }
   int crossings(int v) const;
   std::pair<int, double> quality(int v) const;
+  void updateCrossings();
   long long countDefects();
   double farthest(const std::vector<char>& relaxFace) const;
   void countBad();
 
   // Moving points on the input.
+  void touch(int v) {
+    if (!isTouched_[v]) isTouched_[v] = 1, touched_.push_back(v);
+  }
   void setPoint(int v, const Vec3& x, const Where& w);
   std::vector<int> patchAround(const Plane& plane, const std::vector<int>& seeds, double radius);
   bool lift(const Plane& plane, const std::vector<int>& seeds, double radius,
@@ -141,6 +145,11 @@ class Cleaner {
   std::vector<int> dist_, local_;
   // Faces still to repair, and the faces of the last count of defects.
   std::vector<Eigen::Index> left_, flagged_;
+  // The crossing pairs (f < g, sorted) as of the points touched_ since they were counted.
+  std::vector<std::array<int, 2>> crossings_;
+  bool crossingsKnown_ = false;
+  std::vector<int> touched_;
+  std::vector<char> isTouched_;
 };
 
 Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
@@ -167,7 +176,8 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       triangleStamp_(input.F.rows(), -1),
       vertexStamp_(input.V.rows(), -1),
       dist_(out.mesh.V.rows(), -1),
-      local_(out.mesh.V.rows(), -1) {}
+      local_(out.mesh.V.rows(), -1),
+      isTouched_(out.mesh.V.rows(), 0) {}
 
 // The smoother reference of the repairs: the input's area-weighted vertex normals
 // interpolated where v was sampled.
@@ -255,17 +265,43 @@ std::pair<int, double> Cleaner::quality(int v) const {
   return std::make_pair(-numBad, worst);
 }
 
+// The crossing pairs over the whole surface, near each other or not (a sheet through
+// another part of the surface is not a defect that the repairs' local tests see). The
+// first count tests every pair; later ones keep the pairs of faces that did not move
+// since and test only the faces around the points moved.
+void Cleaner::updateCrossings() {
+  if (!crossingsKnown_) {
+    crossings_ = findSelfIntersections(m_, std::numeric_limits<int>::max()).pairs;
+    crossingsKnown_ = true;
+  } else {
+    std::vector<char> moved(static_cast<std::size_t>(m_.F.rows()), 0);
+    std::vector<int> faces;
+    for (int v : touched_)
+      for (int q = outputAround_.start[v]; q < outputAround_.start[v + 1]; ++q)
+        if (!moved[outputAround_.faces[q]]) {
+          moved[outputAround_.faces[q]] = 1;
+          faces.push_back(outputAround_.faces[q]);
+        }
+    std::vector<std::array<int, 2>> kept;
+    for (const auto& pair : crossings_)
+      if (!moved[pair[0]] && !moved[pair[1]]) kept.push_back(pair);
+    const std::vector<std::array<int, 2>> fresh = selfIntersectionsWith(m_, faces);
+    crossings_.clear();
+    std::merge(kept.begin(), kept.end(), fresh.begin(), fresh.end(),
+               std::back_inserter(crossings_));
+  }
+  for (int v : touched_) isTouched_[v] = 0;
+  touched_.clear();
+}
+
 // What is left over the whole surface: the bad faces and the faces of crossing pairs,
-// near each other or not (a sheet through another part of the surface is not a defect
-// that the repairs' local tests see), kept in flagged_; their number, and the count of
-// crossing pairs reported.
+// kept in flagged_; their number, and the count of crossing pairs reported.
 long long Cleaner::countDefects() {
-  const SelfIntersections everywhere = findSelfIntersections(m_, std::numeric_limits<int>::max());
-  out_.selfIntersections = everywhere.count;
+  updateCrossings();
+  out_.selfIntersections = static_cast<long long>(crossings_.size());
   flagged_.clear();
-  for (const auto& pair : everywhere.pairs)
-    flagged_.insert(flagged_.end(), pair.begin(), pair.end());
-  long long count = everywhere.count;
+  for (const auto& pair : crossings_) flagged_.insert(flagged_.end(), pair.begin(), pair.end());
+  long long count = out_.selfIntersections;
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f)
     if (bad(f)) {
       flagged_.push_back(f);
@@ -296,6 +332,7 @@ void Cleaner::countBad() {
 }
 
 void Cleaner::setPoint(int v, const Vec3& x, const Where& w) {
+  touch(v);
   m_.V.row(v) = x.transpose();
   where_[v] = w;
 }
@@ -759,6 +796,7 @@ std::vector<int> Cleaner::relax(const std::vector<char>& relaxFace) {
       Vec3 c = Vec3::Zero();
       const IndexSpan ring = rings_.ring(v);
       for (int w : ring) c += m_.V.row(w).transpose();
+      touch(v);
       where_[v] = walker_.walk(where_[v], c / ring.size() - m_.V.row(v).transpose());
       m_.V.row(v) = walker_.position(where_[v]).transpose();
     }
@@ -775,7 +813,7 @@ void Cleaner::relaxWhatIsLeft() {
   for (int attempt = 0; attempt < 3 && before > 0; ++attempt) {
     const Points keptV = m_.V;
     const std::vector<Where> keptWhere = where_;
-    const long long keptCrossings = out_.selfIntersections;
+    const std::vector<std::array<int, 2>> keptCrossings = crossings_;
     std::vector<char> relaxFace(out_.base.F.rows(), 0);
     for (Eigen::Index f : flagged_) relaxFace[f / perBase_] = 1;
     const double farBefore = farthest(relaxFace);
@@ -792,7 +830,10 @@ void Cleaner::relaxWhatIsLeft() {
     if (after >= before || farthest(relaxFace) > farBefore) {
       m_.V = keptV;
       where_ = keptWhere;
-      out_.selfIntersections = keptCrossings;
+      crossings_ = keptCrossings;
+      out_.selfIntersections = static_cast<long long>(crossings_.size());
+      for (int v : touched_) isTouched_[v] = 0;
+      touched_.clear();
       break;
     }
     before = after;
@@ -808,8 +849,8 @@ void Cleaner::run(const Progress& progress) {
   // also lie flat over its neighbours).
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f)
     if (bad(f)) left_.push_back(f);
-  for (const auto& pair : findSelfIntersections(m_, std::numeric_limits<int>::max()).pairs)
-    left_.insert(left_.end(), pair.begin(), pair.end());
+  updateCrossings();
+  for (const auto& pair : crossings_) left_.insert(left_.end(), pair.begin(), pair.end());
   sortUnique(left_);
   repair();
   relaxWhatIsLeft();

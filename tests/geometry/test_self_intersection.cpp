@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -82,6 +83,31 @@ TEST(SelfIntersection, VertexPushedThroughTheSurface) {
   EXPECT_EQ(s.pairs.size(), std::min<std::size_t>(4, static_cast<std::size_t>(s.count)));
   for (const auto& p : s.pairs) EXPECT_LT(p[0], p[1]);
   EXPECT_THROW(findSelfIntersections(TriMesh{}), Error);
+}
+
+// The pairs with a face of a subset are exactly the whole count's pairs that have one:
+// the incremental recount of the remesher's clean-up relies on it.
+TEST(SelfIntersection, PairsWithASubsetAreThoseOfTheWholeCount) {
+  TriMesh m = subdivide(shapes::torus(), 3, Scheme::Loop);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (Eigen::Index v = 0; v < m.V.rows(); v += 5)
+    m.V.row(v) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  const SelfIntersections all = findSelfIntersections(m, std::numeric_limits<int>::max());
+  ASSERT_GT(all.count, 20);
+  std::vector<int> subset;
+  std::vector<char> in(m.F.rows(), 0);
+  for (int f = 0; f < m.F.rows(); f += 7) subset.push_back(f), in[f] = 1;
+  std::vector<std::array<int, 2>> expected;
+  for (const auto& p : all.pairs)
+    if (in[p[0]] || in[p[1]]) expected.push_back(p);
+  ASSERT_FALSE(expected.empty());
+  EXPECT_EQ(selfIntersectionsWith(m, subset), expected);
+  EXPECT_TRUE(selfIntersectionsWith(m, {}).empty());
+  // The whole mesh as the subset: every pair.
+  std::vector<int> every(m.F.rows());
+  for (int f = 0; f < m.F.rows(); ++f) every[f] = f;
+  EXPECT_EQ(selfIntersectionsWith(m, every), all.pairs);
 }
 
 TEST(DistanceBvh, FacesInBoxMatchesBruteForce) {
