@@ -1,9 +1,11 @@
 #include "osdmra/remesh/resample.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <unordered_map>
 
+#include "osdmra/base/detail/parallel.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
@@ -33,6 +35,15 @@ bool expressIn(const TriMesh& base, const Param& p, int g, std::array<double, 3>
 struct Line {
   std::vector<int> vertices;
   std::vector<double> t;
+};
+
+// A grid point to place: at parameter `bary` of base face `face`, or at `at` along
+// the input's line `line` when it has one.
+struct Job {
+  int face = -1;
+  std::array<double, 3> bary{};
+  const Line* line = nullptr;
+  double at = 0;
 };
 
 class Resampler {
@@ -71,9 +82,10 @@ class Resampler {
   bool featureEdge(int p, int q) const {
     return s_.featureEdges.count(edgeKey(inputOf_[p], inputOf_[q])) != 0;
   }
-  Vec3 sample(int f, const std::array<double, 3>& b);
+  int newPoint(const Job& job, bool isFree, long long edge);
+  void place(const Job& job, SurfacePoint& where, Vec3& position) const;
   Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
-  Vec3 sampleLine(const Line& path, double at);
+  SurfacePoint onLine(const Line& path, double at) const;
   int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
   void gridOfFace(int f);
 
@@ -88,19 +100,27 @@ class Resampler {
   int N_ = 1;
   std::unordered_map<std::uint64_t, int> edgePoints_;
   std::unordered_map<long long, Line> lines_;  // by base edge p * nbv + q, p < q
-  std::vector<Vec3> positions_;
+  std::vector<Job> jobs_;                      // per vertex after the base vertices
   std::vector<std::array<int, 3>> faces_;
   Resampled out_;
 };
 
-// The point b of base face f on the input: the parameterisation's exact inverse
-// (traceToInput), so that grid points fall in no crack between input triangles.
-Vec3 Resampler::sample(int f, const std::array<double, 3>& b) {
-  const SurfacePoint at = traceToInput(s_.history, f, b);
-  out_.where.push_back(at);
-  Vec3 p = Vec3::Zero();
-  for (int i = 0; i < 3; ++i) p += at.bary[i] * input_.V.row(input_.F(at.triangle, i)).transpose();
-  return p;
+// Where a grid point lies on the input: at its parameter, through the
+// parameterisation's exact inverse (traceToInput), so that grid points fall in no
+// crack between input triangles; or on the input's line under its base edge.
+void Resampler::place(const Job& job, SurfacePoint& where, Vec3& position) const {
+  where = job.line ? onLine(*job.line, job.at) : traceToInput(s_.history, job.face, job.bary);
+  position = Vec3::Zero();
+  for (int i = 0; i < 3; ++i)
+    position += where.bary[i] * input_.V.row(input_.F(where.triangle, i)).transpose();
+}
+
+// A new output vertex, placed later (run() places them all at once, on every core).
+int Resampler::newPoint(const Job& job, bool isFree, long long edge) {
+  jobs_.push_back(job);
+  out_.free.push_back(isFree);
+  out_.line.push_back(edge);
+  return static_cast<int>(base_.V.rows() + jobs_.size() - 1);
 }
 
 // The input's line under base edge (p, q) as seen from base face f; none if there is
@@ -134,7 +154,7 @@ Line Resampler::lineUnder(int f, int p, int q, const std::vector<std::vector<int
 }
 
 // The point at parameter `at` along a path, on the input edge whose ends bracket it.
-Vec3 Resampler::sampleLine(const Line& path, double at) {
+SurfacePoint Resampler::onLine(const Line& path, double at) const {
   std::size_t i = 0;
   while (i + 2 < path.vertices.size() && path.t[i + 1] < at) ++i;
   const double u = std::clamp((at - path.t[i]) / (path.t[i + 1] - path.t[i]), 0.0, 1.0);
@@ -145,8 +165,7 @@ Vec3 Resampler::sampleLine(const Line& path, double at) {
     if (input_.F(tri, k) == a) w.bary[k] = 1 - u;
     if (input_.F(tri, k) == b) w.bary[k] = u;
   }
-  out_.where.push_back(w);
-  return Vec3((1 - u) * input_.V.row(a).transpose() + u * input_.V.row(b).transpose());
+  return w;
 }
 
 // The grid point at `step` of N along base edge (p, q), p < q, shared with the face on
@@ -155,22 +174,17 @@ Vec3 Resampler::sampleLine(const Line& path, double at) {
 int Resampler::edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary) {
   const long long nbv = base_.V.rows();
   const std::uint64_t key = (static_cast<std::uint64_t>(p) * nbv + q) * (N_ + 1) + step;
-  auto [it, fresh] = edgePoints_.emplace(key, static_cast<int>(positions_.size()));
-  if (!fresh) return it->second;
+  const auto known = edgePoints_.find(key);
+  if (known != edgePoints_.end()) return known->second;
   const long long edge = static_cast<long long>(p) * nbv + q;
   const bool feature = featureEdge(p, q), boundary = isBoundaryEdge(p, q);
-  const Line* under = nullptr;
+  Job job{f, bary};
   if (feature || boundary) {
-    auto [known, first] = lines_.try_emplace(edge);
-    if (first) known->second = lineUnder(f, p, q, boundary ? alongBoundary_ : alongFeature_);
-    if (!known->second.vertices.empty()) under = &known->second;
+    auto [line, first] = lines_.try_emplace(edge);
+    if (first) line->second = lineUnder(f, p, q, boundary ? alongBoundary_ : alongFeature_);
+    if (!line->second.vertices.empty()) job = {-1, {}, &line->second, double(step) / N_};
   }
-  positions_.push_back(under ? sampleLine(*under, double(step) / N_) : sample(f, bary));
-  out_.free.resize(positions_.size(), 0);
-  out_.free.back() = !feature && !boundary;
-  out_.line.resize(positions_.size(), -1);
-  out_.line.back() = edge;
-  return it->second;
+  return edgePoints_[key] = newPoint(job, !feature && !boundary, edge);
 }
 
 // The grid of base face f, J times split: corners are base vertices, edge points are
@@ -195,10 +209,7 @@ void Resampler::gridOfFace(int f) {
         if (p > q) std::swap(p, q), step = N - step;
         slot = edgePoint(f, p, q, step, bary);
       } else {
-        slot = static_cast<int>(positions_.size());
-        positions_.push_back(sample(f, bary));
-        out_.free.resize(positions_.size(), 0);
-        out_.free.back() = 1;
+        slot = newPoint({f, bary}, true, -1);
       }
     }
   for (int i = 0; i < N; ++i)
@@ -222,20 +233,32 @@ Resampled Resampler::run(int levels, const Progress& progress) {
         out_.where[b].bary[k] = 1;
       }
     }
-  for (int v = 0; v < nbv; ++v) positions_.push_back(base_.V.row(v).transpose());
-  for (int f = 0; f < nb; ++f) {
-    if (progress && f % 16 == 0) progress("resample", double(f) / nb);
-    gridOfFace(f);
-  }
+  out_.free.assign(nbv, 0);
+  out_.line.assign(nbv, -1);
+  for (int f = 0; f < nb; ++f) gridOfFace(f);
+  // The grid points, each independent of the others.
+  const int n = static_cast<int>(jobs_.size());
+  out_.where.resize(nbv + jobs_.size());
+  out_.mesh.V.resize(nbv + n, 3);
+  out_.mesh.V.topRows(nbv) = base_.V;
+  std::vector<Vec3> positions(jobs_.size());
+  const int chunks = numChunks(n, 1 << 12);
+  constexpr int kSteps = 64;  // progress reports, and the pieces each chunk works in
+  std::atomic<int> done{0};
+  forChunks(n, chunks, [&](int chunk, int begin, int end) {
+    for (int piece = 0; piece < kSteps; ++piece) {
+      const int from = begin + (end - begin) * piece / kSteps;
+      const int to = begin + (end - begin) * (piece + 1) / kSteps;
+      for (int i = from; i < to; ++i) place(jobs_[i], out_.where[nbv + i], positions[i]);
+      ++done;
+      if (chunk == 0 && progress) progress("resample", double(done) / (chunks * kSteps));
+    }
+  });
   if (progress) progress("resample", 1.0);
-  out_.mesh.V.resize(static_cast<Eigen::Index>(positions_.size()), 3);
-  for (std::size_t v = 0; v < positions_.size(); ++v)
-    out_.mesh.V.row(v) = positions_[v].transpose();
+  for (int i = 0; i < n; ++i) out_.mesh.V.row(nbv + i) = positions[i].transpose();
   out_.mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
   for (std::size_t f = 0; f < faces_.size(); ++f)
     for (int k = 0; k < 3; ++k) out_.mesh.F(f, k) = faces_[f][k];
-  out_.free.resize(positions_.size(), 0);
-  out_.line.resize(positions_.size(), -1);
   return std::move(out_);
 }
 

@@ -6,7 +6,8 @@
 // bijection), so the samples follow the bijection with no crack between charts. Grid
 // points on feature and boundary base edges are sampled along the input's line itself
 // (the chain of input feature or boundary edges the base edge stands for), at their
-// parameter along it.
+// parameter along it. The grid is laid out first; its points, independent of each
+// other, are then placed on every core.
 #pragma once
 
 #include <vector>
