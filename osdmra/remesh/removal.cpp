@@ -130,6 +130,14 @@ std::vector<std::array<int, 3>> triangulateRing(const std::vector<Vec2>& points,
   return tris;
 }
 
+std::vector<std::array<int, 3>> fanOfRing(int from, int numPoints, bool boundary) {
+  const int corners = boundary ? numPoints : numPoints - 1;
+  std::vector<std::array<int, 3>> tris;
+  for (int i = 1; i + 1 < corners; ++i)
+    tris.push_back({from, (from + i) % corners, (from + i + 1) % corners});
+  return tris;
+}
+
 bool isBijective(const Flattening& flat, const std::vector<std::array<int, 3>>& triangles,
                  bool boundary, double margin) {
   const int m = static_cast<int>(flat.points.size()) - 1;

@@ -41,6 +41,13 @@ struct Flattening {
 Flattening flattenRing(const Vec3& center, const std::vector<Vec3>& ring, bool boundary,
                        int featureAt);
 
+/// The triangulation of the polygon of a ring without a feature line (`numPoints` =
+/// m + 1 flat points as in Flattening; closed: corners 0..m-1, on a boundary: 0..m)
+/// that fans out from ring position `from`. Whether its triangles are positive is
+/// isBijective's to say: a fan is valid exactly when the polygon is star-shaped from
+/// that corner. Where the ear clipping's triangulation is refused, a fan may pass.
+std::vector<std::array<int, 3>> fanOfRing(int from, int numPoints, bool boundary);
+
 /// Triangulates the flat polygon (two polygons sharing the edge between the feature
 /// neighbours when featureAt >= 0) by clipping, each time, the ear whose smallest
 /// angle is largest. Triples of ring positions, counter-clockwise; empty when the

@@ -73,6 +73,7 @@ class Simplifier {
   bool removable(int v, const Ring& r) const;
   bool hasEdge(int a, int b) const;
   bool plan(int v, Ring r, Plan& p);
+  bool tryTriangulation(int v, Plan& p);
   bool placePoints(int v, Plan& p);
   bool boundedDistortion(const Plan& p);
   void commit(int v, const Plan& p);
@@ -191,13 +192,32 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
   // keep such vertices while flatter ones remain. Folds of a scan go at any exponent.
   const double a = p.flat.exponent;
   if (!fold_[v] && (a > limits().power || a < 1 / limits().power)) return false;
+  // The ear clipping's triangulation first; where it is refused, the fans from each
+  // corner (a ring without a feature line) before the removal is deferred.
   p.triangles = triangulateRing(p.flat.points, p.ring.boundary, p.featureAt);
+  if (tryTriangulation(v, p)) return true;
+  if (p.featureAt >= 0) return false;
+  const int numPoints = static_cast<int>(p.flat.points.size());
+  const int corners = p.ring.boundary ? numPoints : numPoints - 1;
+  if (corners <= 3) return false;
+  for (int from = 0; from < corners; ++from) {
+    p.triangles = fanOfRing(from, numPoints, p.ring.boundary);
+    if (tryTriangulation(v, p)) return true;
+  }
+  return false;
+}
+
+// Whether the plan's triangulation is certified (removal.h), well shaped in the
+// flattening, adds no edge that exists already, and places the old faces' points with
+// bounded distortion.
+bool Simplifier::tryTriangulation(int v, Plan& p) {
   if (!isBijective(p.flat, p.triangles, p.ring.boundary)) return false;
   const double minAngle = limits().flatAngle * kPi / 180;
   for (const auto& t : p.triangles)
     if (smallestAngle(p.flat.points[t[0]], p.flat.points[t[1]], p.flat.points[t[2]]) < minAngle)
       return false;
   // No new edge may exist already (that would pinch the surface: a changed topology).
+  const int m = p.ring.numFaces();
   const int closing = p.ring.boundary ? -1 : m;
   for (const auto& t : p.triangles)
     for (int i = 0; i < 3; ++i) {

@@ -142,3 +142,33 @@ TEST(Removal, ABoundaryRingFlattensToAHalfDisk) {
   EXPECT_EQ(tris.size(), 2u);
   EXPECT_TRUE(isBijective(f, tris, true));
 }
+
+TEST(Removal, AFanIsCertifiedExactlyWhereThePolygonIsStarShapedFromItsCorner) {
+  // A flat ring of five spokes whose flattened polygon has one reflex corner (spoke 2
+  // is short): a fan from a corner that sees the whole polygon tiles it once; a fan
+  // from a corner that does not see it has a triangle turned over and is refused.
+  std::vector<Vec3> ring = ringAt({72, 72, 72, 72, 72});
+  ring[2] *= 0.2;
+  const Flattening f = flattenRing(Vec3(0, 0, 0), ring, false, -1);
+  int certified = 0;
+  for (int from = 0; from < 5; ++from) {
+    SCOPED_TRACE(from);
+    const auto fan = fanOfRing(from, static_cast<int>(f.points.size()), false);
+    ASSERT_EQ(fan.size(), 3u);
+    // Star-shaped from `from`: every fan triangle positive.
+    bool sees = true;
+    for (const auto& t : fan)
+      sees = sees && area(f.points[t[0]], f.points[t[1]], f.points[t[2]]) > 0;
+    EXPECT_EQ(isBijective(f, fan, false), sees);
+    certified += sees;
+  }
+  // The reflex corner sees everything; its two neighbours' fans cut across it.
+  EXPECT_GT(certified, 0);
+  EXPECT_LT(certified, 5);
+  EXPECT_TRUE(isBijective(f, fanOfRing(2, static_cast<int>(f.points.size()), false), false));
+  // On a boundary, the half disk's corners 0..m: fans from either end, and from the
+  // middle, tile it.
+  const std::vector<Vec3> half{{1, 0, 0}, {0.5, 0.8, 0}, {-0.5, 0.8, 0}, {-1, 0, 0}};
+  const Flattening h = flattenRing(Vec3(0, 0, 0), half, true, -1);
+  for (int from : {0, 1, 3}) EXPECT_TRUE(isBijective(h, fanOfRing(from, 4, true), true)) << from;
+}
