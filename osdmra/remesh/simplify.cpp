@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/removal.h"
@@ -73,9 +74,9 @@ class Simplifier {
   bool removable(int v, const Ring& r) const;
   bool hasEdge(int a, int b) const;
   bool plan(int v, Ring r, Plan& p);
-  bool tryTriangulation(int v, Plan& p);
+  bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
-  bool boundedDistortion(const Plan& p);
+  double distortion(const Plan& p);
   void commit(int v, const Plan& p);
   const StageLimits& limits() const { return stages_[stage_]; }
 
@@ -194,23 +195,33 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
   if (!fold_[v] && (a > limits().power || a < 1 / limits().power)) return false;
   // The ear clipping's triangulation first; where it is refused, the fans from each
   // corner (a ring without a feature line) before the removal is deferred.
+  double worst = 0;
   p.triangles = triangulateRing(p.flat.points, p.ring.boundary, p.featureAt);
-  if (tryTriangulation(v, p)) return true;
+  if (tryTriangulation(v, p, worst)) return true;
   if (p.featureAt >= 0) return false;
   const int numPoints = static_cast<int>(p.flat.points.size());
   const int corners = p.ring.boundary ? numPoints : numPoints - 1;
   if (corners <= 3) return false;
+  // Of the fans that pass, the one from the corner of lowest valence.
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<std::array<int, 3>> chosen;
   for (int from = 0; from < corners; ++from) {
     p.triangles = fanOfRing(from, numPoints, p.ring.boundary);
-    if (tryTriangulation(v, p)) return true;
+    const double valence = static_cast<double>(vertFaces_[p.vertex(from)].size());
+    if (valence < best && tryTriangulation(v, p, worst)) {
+      best = valence;
+      chosen = p.triangles;
+    }
   }
-  return false;
+  if (chosen.empty()) return false;
+  p.triangles = std::move(chosen);
+  return tryTriangulation(v, p, worst);
 }
 
 // Whether the plan's triangulation is certified (removal.h), well shaped in the
 // flattening, adds no edge that exists already, and places the old faces' points with
-// bounded distortion.
-bool Simplifier::tryTriangulation(int v, Plan& p) {
+// bounded distortion (`worst`: the largest anisotropy).
+bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   if (!isBijective(p.flat, p.triangles, p.ring.boundary)) return false;
   const double minAngle = limits().flatAngle * kPi / 180;
   for (const auto& t : p.triangles)
@@ -228,7 +239,9 @@ bool Simplifier::tryTriangulation(int v, Plan& p) {
       const int x = p.vertex(ka), y = p.vertex(kb);
       if (x == y || (!ringEdge && hasEdge(x, y))) return false;
     }
-  return placePoints(v, p) && (fold_[v] || boundedDistortion(p));
+  if (!placePoints(v, p)) return false;
+  worst = fold_[v] ? 1.0 : distortion(p);
+  return worst <= limits().anisotropy;
 }
 
 // Every parameterised point of the old faces, and v itself (the origin), at its place
@@ -262,10 +275,10 @@ bool Simplifier::placePoints(int v, Plan& p) {
   return true;
 }
 
-// The input triangles that come to lie inside one new face: their map onto that face
-// (laid flat) may not be more anisotropic than the stage allows. Corners that are
-// vertices of the new face count as inside it.
-bool Simplifier::boundedDistortion(const Plan& p) {
+// The largest anisotropy of the input triangles that come to lie inside one new face,
+// mapped onto that face laid flat (infinite once over the stage's bound). Corners that
+// are vertices of the new face count as inside it.
+double Simplifier::distortion(const Plan& p) {
   std::vector<std::array<Vec2, 3>> charts(p.triangles.size());
   for (std::size_t q = 0; q < p.triangles.size(); ++q) {
     const auto& t = p.triangles[q];
@@ -288,6 +301,7 @@ bool Simplifier::boundedDistortion(const Plan& p) {
       }
     return false;
   };
+  double worst = 1;
   for (const Plan::Moved& mv : p.moved)
     for (int t : inputFaces_[mv.point]) {
       std::array<Vec2, 3> image;
@@ -300,9 +314,12 @@ bool Simplifier::boundedDistortion(const Plan& p) {
                    b[2] * charts[mv.triangle][2];
         corners[c] = V_.row(inputF_(t, c)).transpose();
       }
-      if (inside && !(anisotropy(corners, image) <= limits().anisotropy)) return false;
+      if (!inside) continue;
+      const double a = anisotropy(corners, image);
+      if (!(a <= limits().anisotropy)) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, a);
     }
-  return true;
+  return worst;
 }
 
 void Simplifier::commit(int v, const Plan& p) {
