@@ -30,15 +30,14 @@
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/pipeline.h"
+#include "stopwatch.h"
 
 using namespace osdmra;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+using bench::Clock;
+using bench::secondsSince;
 
 struct Row {
   std::string codec, setting;
@@ -97,14 +96,14 @@ Row dracoAt(const TriMesh& mesh, int bits, const TriMesh* original) {
   draco::EncoderBuffer buffer;
   auto t0 = Clock::now();
   if (!enc.EncodeMeshToBuffer(*dm, &buffer).ok()) throw Error("draco: encoding failed");
-  r.encodeSeconds = since(t0);
+  r.encodeSeconds = secondsSince(t0);
   r.bytes = buffer.size();
   draco::DecoderBuffer in;
   in.Init(buffer.data(), buffer.size());
   draco::Decoder dec;
   t0 = Clock::now();
   auto decoded = dec.DecodeMeshFromBuffer(&in);
-  r.decodeSeconds = since(t0);
+  r.decodeSeconds = secondsSince(t0);
   if (!decoded.ok()) throw Error("draco: decoding failed");
   const TriMesh back = fromDraco(*decoded.value());
   r.psnrSurface = psnrOf(back, mesh);
@@ -121,12 +120,12 @@ Row osdmraAt(const AnalysedSurface& a, double encodeSetup, double bitsPerVertex,
   auto t0 = Clock::now();
   const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(),
                                 RateTarget::bitsPerVertex(bitsPerVertex, n), o);
-  r.encodeSeconds = encodeSetup + since(t0);
+  r.encodeSeconds = encodeSetup + secondsSince(t0);
   r.bytes = z.bytes.size();
   r.psnrVertex = z.psnrVertices;
   t0 = Clock::now();
   const Decompressed d = decompress(z.bytes.data(), z.bytes.size(), "stream");
-  r.decodeSeconds = since(t0);
+  r.decodeSeconds = secondsSince(t0);
   r.psnrSurface = psnrOf(d.mesh, reference);
   if (original) r.psnrOriginal = psnrOf(d.mesh, *original);
   return r;
@@ -166,7 +165,7 @@ int main(int argc, char** argv) try {
 
   auto t0 = Clock::now();
   const AnalysedSurface a(s.mesh, options);
-  const double setup = since(t0);
+  const double setup = secondsSince(t0);
   // The full-resolution mesh in canonical order, as the decoder gives it.
   const TriMesh reference{a.canonicalPositions(), a.hierarchy().faces(a.levels()), Points()};
   std::vector<Row> rows;

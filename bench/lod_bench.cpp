@@ -25,6 +25,7 @@
 #include "osdmra/remesh/remesh.h"
 #include "osdmra/subdivision/recovery.h"
 #include "osdmra/subdivision/shapes.h"
+#include "run_benchmarks.h"
 
 using namespace osdmra;
 
@@ -279,8 +280,5 @@ int main(int argc, char** argv) {
         ->Unit(benchmark::kMillisecond)
         ->Iterations(3);
   }
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return bench::runBenchmarks(argc, argv);
 }

@@ -25,6 +25,7 @@
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/pipeline.h"
+#include "stopwatch.h"
 
 #ifdef OSDMRA_HAVE_CGAL
 // CGAL's Garland-Heckbert quadrics copy Eigen 4x4 matrices that GCC 12 believes may be
@@ -42,10 +43,8 @@ using namespace osdmra;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+using bench::Clock;
+using bench::secondsSince;
 
 struct Row {
   std::string method;
@@ -192,22 +191,20 @@ void compare(const std::string& path, const std::vector<long long>& given,
       }
     }
   }
-  for (long long b : budgets) {
+  // A peer simplifier's row: its mesh at the budget, timed by the peer itself.
+  auto peer = [&](const char* method, long long b, auto simplify) {
     Row r;
-    r.method = "meshoptimizer";
+    r.method = method;
     r.budget = b;
-    const TriMesh m = meshoptSimplify(input, b, r.seconds);
+    const TriMesh m = simplify(input, b, r.seconds);
     r.triangles = static_cast<int>(m.F.rows());
     r.input = surfaceDistance(m, input, dist);
     print(name, r);
+  };
+  for (long long b : budgets) {
+    peer("meshoptimizer", b, meshoptSimplify);
 #ifdef OSDMRA_HAVE_CGAL
-    Row g;
-    g.method = "CGAL Garland-Heckbert";
-    g.budget = b;
-    const TriMesh q = cgalGarlandHeckbert(input, b, g.seconds);
-    g.triangles = static_cast<int>(q.F.rows());
-    g.input = surfaceDistance(q, input, dist);
-    print(name, g);
+    peer("CGAL Garland-Heckbert", b, cgalGarlandHeckbert);
 #endif
   }
 }

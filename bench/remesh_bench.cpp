@@ -18,6 +18,7 @@
 #include "osdmra/mesh/io.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/remesh/remesh.h"
+#include "run_benchmarks.h"
 
 using namespace osdmra;
 
@@ -73,8 +74,5 @@ int main(int argc, char** argv) {
         ->Unit(benchmark::kMillisecond)
         ->Iterations(3);
   }
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return bench::runBenchmarks(argc, argv);
 }
