@@ -21,6 +21,11 @@ void checkOptions(const TriMesh& input, const RemeshOptions& options) {
     throw Error("remesh: RemeshOptions::levels must be in 0..8, got " +
                 std::to_string(options.levels));
   if (input.F.rows() < 4) throw Error("remesh: the input has fewer than 4 faces");
+  // Areas and normals square the coordinates' differences: beyond 1e150 they overflow.
+  const double diagonal = boundingBoxDiagonal(input.V);
+  if (!(diagonal < 1e150))
+    throw Error("remesh: the input's bounding box spans " + std::to_string(diagonal) +
+                ", too large for its areas to be computed (at most 1e150)");
 }
 
 }  // namespace

@@ -191,4 +191,17 @@ TEST(Remesh, RejectsBadOptions) {
   o.baseFaces = 10;
   o.levels = 9;
   EXPECT_THROW(remesh(ico, o), Error);
+  // Coordinates whose squares overflow: refused up front, not an error from deep inside.
+  o.levels = 2;
+  TriMesh huge = ico;
+  huge.V *= 1e200;
+  try {
+    remesh(huge, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("too large for its areas"), std::string::npos) << e.what();
+  }
+  TriMesh large = ico;
+  large.V *= 1e100;
+  EXPECT_NO_THROW(remesh(large, o));
 }
