@@ -29,7 +29,14 @@ LocalGram::LocalGram(const Connectivity& conn, int level, ElementGram& elements)
       scale_(std::ldexp(1.0, -2 * level)),
       elements_(elements),
       mark_(conn.numVertices(), -1),
-      faceMark_(conn.numFaces(), 0) {}
+      faceMark_(conn.numFaces(), 0),
+      elementOf_(conn.numFaces()) {}
+
+const ElementGram::Element& LocalGram::element(int f) {
+  ElementGram::Element& e = elementOf_[f];
+  if (!e.matrix) e = elements_.element(conn_, f);
+  return e;
+}
 
 void LocalGram::facesNear(const std::vector<int>& vertices) {
   // Loop's control sets reach one ring beyond a face's corners, so faces within one
@@ -57,7 +64,7 @@ Eigen::MatrixXd LocalGram::block(const std::vector<int>& S) {
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, n);
   std::vector<std::pair<int, int>> hits;  // (position in element, position in S)
   for (int f : faces_) {
-    const ElementGram::Element e = elements_.element(conn_, f);
+    const ElementGram::Element& e = element(f);
     hits.clear();
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
       if (mark_[e.control[p]] >= 0) hits.emplace_back(p, mark_[e.control[p]]);
@@ -73,7 +80,7 @@ std::vector<std::pair<int, double>> LocalGram::column(int k) {
   touched_.clear();
   std::vector<double> values;
   for (int f : faces_) {
-    const ElementGram::Element e = elements_.element(conn_, f);
+    const ElementGram::Element& e = element(f);
     int pk = -1;
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
       if (e.control[p] == k) pk = p;

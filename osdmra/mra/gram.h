@@ -30,10 +30,14 @@ class LocalGram {
  private:
   // Faces whose control sets meet `vertices` (each face once).
   void facesNear(const std::vector<int>& vertices);
+  // The element of face f, looked up once: overlapping blocks and columns meet the
+  // same faces again and again, and a lookup encodes the face's fans three times.
+  const ElementGram::Element& element(int f);
   const Connectivity& conn_;
   double scale_;
   ElementGram& elements_;
   std::vector<int> mark_, faceMark_, faces_, touched_;
+  std::vector<ElementGram::Element> elementOf_;  // matrix == nullptr: not looked up yet
   int stamp_ = 0;
 };
 
