@@ -204,9 +204,8 @@ Entry solveLocalImpl(const Hierarchy& h, int j, int e, const std::vector<int>& b
       if (mark[it.col()] >= 0)
         q(static_cast<Eigen::Index>(i)) -= it.value() * entry.alpha(mark[it.col()]);
   for (int v : S) mark[v] = -1;
-  const Eigen::MatrixXd Gq = fine.block(support);
   for (int k : support) fineMark[k] = -1;
-  entry.scaledNorm2 = q.dot(Gq * q) * std::ldexp(1.0, 2 * (j + 1));
+  entry.scaledNorm2 = fine.quadraticForm(support, q) * std::ldexp(1.0, 2 * (j + 1));
   return entry;
 }
 
