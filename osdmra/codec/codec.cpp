@@ -205,9 +205,17 @@ Encoding encode(const FilterBank& bank, const Decomposition& d, const Points& fi
   return out;
 }
 
-// The coefficient bytes to keep for the target.
+// A decoded prefix and its PSNR by the target's measure.
+struct Measured {
+  std::size_t bytes = 0;
+  Points decoded;
+  double quality = 0;
+};
+
+// The coefficient bytes to keep for the target. For a PSNR target, `kept` receives
+// the decode and PSNR of the cut, measured on the way (the search's last success).
 std::size_t cutFor(const FilterBank& bank, const Encoding& e, const Points& finest,
-                   const RateTarget& target) {
+                   const RateTarget& target, Measured& kept) {
   const std::size_t all = e.file.coefficients.size(), baseBytes = e.file.base.size();
   if (target.kind == RateTarget::Kind::Whole) return all;
   if (target.kind == RateTarget::Kind::Bytes) {
@@ -227,23 +235,30 @@ std::size_t cutFor(const FilterBank& bank, const Encoding& e, const Points& fine
   }
   const double diagonal = boundingBoxDiagonal(finest);
   const TriMesh reference{finest, bank.hierarchy->faces(bank.hierarchy->levels()), Points()};
-  const auto quality = [&](std::size_t n) {
-    const Points c = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, n);
-    return target.measure == PsnrMeasure::Vertices
-               ? psnr(c, finest, diagonal)
-               : surfacePsnr(TriMesh{c, reference.F, Points()}, reference);
+  const auto measure = [&](std::size_t n) {
+    Measured m;
+    m.bytes = n;
+    m.decoded = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, n);
+    m.quality = target.measure == PsnrMeasure::Vertices
+                    ? psnr(m.decoded, finest, diagonal)
+                    : surfacePsnr(TriMesh{m.decoded, reference.F, Points()}, reference);
+    return m;
   };
-  if (quality(all) < target.value)
-    throw Error("compress: the whole stream reaches " + std::to_string(quality(all)) +
+  kept = measure(all);
+  if (kept.quality < target.value)
+    throw Error("compress: the whole stream reaches " + std::to_string(kept.quality) +
                 " dB, below the target " + std::to_string(target.value) +
                 " dB; raise the precision");
   std::size_t lo = 0, hi = all;  // smallest cut that reaches the target
   while (lo < hi) {
     const std::size_t mid = lo + (hi - lo) / 2;
-    if (quality(mid) >= target.value)
+    Measured m = measure(mid);
+    if (m.quality >= target.value) {
       hi = mid;
-    else
+      kept = std::move(m);  // hi is always the last cut that reached it
+    } else {
       lo = mid + 1;
+    }
   }
   return lo;
 }
@@ -273,13 +288,21 @@ Compressed compress(const FilterBank& bank, const Decomposition& d, const Points
   out.wholeBytes = oszSize(e.file.base.size(), e.file.coefficients.size());
   out.baseBytes = oszSize(e.file.base.size(), 0);
   out.planes = e.file.header.topPlane + 1;
-  const std::size_t keep = cutFor(bank, e, finest, target);
-  const Points c = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, keep);
+  Measured kept;
+  const std::size_t keep = cutFor(bank, e, finest, target, kept);
+  // A PSNR search has decoded the cut already (and measured it by its measure).
+  const bool searched = target.kind == RateTarget::Kind::Psnr && kept.bytes == keep;
+  const Points c =
+      searched ? std::move(kept.decoded)
+               : decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, keep);
   const Faces& F = bank.hierarchy->faces(bank.hierarchy->levels());
   out.psnrVertices = psnr(c, finest, boundingBoxDiagonal(finest));
-  out.psnrSurface = options.measureSurface
-                        ? surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()})
-                        : std::numeric_limits<double>::quiet_NaN();
+  if (!options.measureSurface)
+    out.psnrSurface = std::numeric_limits<double>::quiet_NaN();
+  else if (searched && target.measure == PsnrMeasure::Surface)
+    out.psnrSurface = kept.quality;
+  else
+    out.psnrSurface = surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()});
   e.file.coefficients.resize(keep);
   out.bytes = writeOsz(e.file);
   return out;

@@ -105,8 +105,9 @@ Approximation Approximator::budget(long long triangles) const {
 }
 
 double Approximator::l2Error(const Approximation& a) const {
-  return l2Distance(*bank_.hierarchy, bank_.scheme,
-                    synthesize(bank_, truncate(d_, a.keep), d_.levels), fullControls_);
+  std::call_once(l2Once_,
+                 [&] { l2_ = std::make_unique<L2Distance>(*bank_.hierarchy, bank_.scheme); });
+  return (*l2_)(synthesize(bank_, truncate(d_, a.keep), d_.levels), fullControls_);
 }
 
 }  // namespace osdmra

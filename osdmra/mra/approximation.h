@@ -101,6 +101,8 @@ class Approximator {
   TriMesh full_;
   mutable std::once_flag countsOnce_;
   mutable std::vector<long long> counts_;
+  mutable std::once_flag l2Once_;
+  mutable std::unique_ptr<L2Distance> l2_;  // made on the first l2Error
 };
 
 }  // namespace osdmra

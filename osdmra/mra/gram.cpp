@@ -29,7 +29,14 @@ LocalGram::LocalGram(const Connectivity& conn, int level, ElementGram& elements)
       scale_(std::ldexp(1.0, -2 * level)),
       elements_(elements),
       mark_(conn.numVertices(), -1),
-      faceMark_(conn.numFaces(), 0) {}
+      faceMark_(conn.numFaces(), 0),
+      elementOf_(conn.numFaces()) {}
+
+const ElementGram::Element& LocalGram::element(int f) {
+  ElementGram::Element& e = elementOf_[f];
+  if (!e.matrix) e = elements_.element(conn_, f);
+  return e;
+}
 
 void LocalGram::facesNear(const std::vector<int>& vertices) {
   // Loop's control sets reach one ring beyond a face's corners, so faces within one
@@ -55,17 +62,39 @@ Eigen::MatrixXd LocalGram::block(const std::vector<int>& S) {
   for (int i = 0; i < n; ++i) mark_[S[i]] = i;
   facesNear(S);
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, n);
-  std::vector<std::pair<int, int>> hits;  // (position in element, position in S)
   for (int f : faces_) {
-    const ElementGram::Element e = elements_.element(conn_, f);
-    hits.clear();
+    const ElementGram::Element& e = element(f);
+    hits_.clear();
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
-      if (mark_[e.control[p]] >= 0) hits.emplace_back(p, mark_[e.control[p]]);
-    for (auto [p, a] : hits)
-      for (auto [q, b] : hits) B(a, b) += scale_ * (*e.matrix)(p, q);
+      if (mark_[e.control[p]] >= 0) hits_.emplace_back(p, mark_[e.control[p]]);
+    for (auto [p, a] : hits_)
+      for (auto [q, b] : hits_) B(a, b) += scale_ * (*e.matrix)(p, q);
   }
   for (int v : S) mark_[v] = -1;
   return B;
+}
+
+double LocalGram::quadraticForm(const std::vector<int>& S, const Eigen::VectorXd& x) {
+  const int n = static_cast<int>(S.size());
+  for (int i = 0; i < n; ++i) mark_[S[i]] = i;
+  facesNear(S);
+  // The faces and entries block(S) would sum, each face's share x_e^T E x_e at once.
+  double sum = 0;
+  for (int f : faces_) {
+    const ElementGram::Element& e = element(f);
+    hits_.clear();
+    for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
+      if (mark_[e.control[p]] >= 0) hits_.emplace_back(p, mark_[e.control[p]]);
+    double face = 0;
+    for (auto [p, a] : hits_) {
+      double row = 0;
+      for (auto [q, b] : hits_) row += (*e.matrix)(p, q) * x(b);
+      face += x(a) * row;
+    }
+    sum += face;
+  }
+  for (int v : S) mark_[v] = -1;
+  return scale_ * sum;
 }
 
 std::vector<std::pair<int, double>> LocalGram::column(int k) {
@@ -73,7 +102,7 @@ std::vector<std::pair<int, double>> LocalGram::column(int k) {
   touched_.clear();
   std::vector<double> values;
   for (int f : faces_) {
-    const ElementGram::Element e = elements_.element(conn_, f);
+    const ElementGram::Element& e = element(f);
     int pk = -1;
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
       if (e.control[p] == k) pk = p;

@@ -116,16 +116,37 @@ double l2Distance(const Hierarchy& h, Scheme scheme, const Points& a, const Poin
   const int J = h.levels();
   if (a.rows() != h.numVertices(J) || b.rows() != h.numVertices(J))
     throw Error("l2Distance: expected " + std::to_string(h.numVertices(J)) + " points");
+  return L2Distance(h, scheme)(a, b);
+}
+
+L2Distance::L2Distance(const Hierarchy& h, Scheme scheme)
+    : h_(h), elements_(std::make_unique<ElementGram>(scheme)) {
+  const Connectivity& conn = h.connectivity(h.levels());
+  controlStart_.reserve(static_cast<std::size_t>(conn.numFaces()) + 1);
+  matrix_.reserve(static_cast<std::size_t>(conn.numFaces()));
+  controlStart_.push_back(0);
+  for (int f = 0; f < conn.numFaces(); ++f) {
+    const ElementGram::Element el = elements_->element(conn, f);
+    control_.insert(control_.end(), el.control.begin(), el.control.end());
+    controlStart_.push_back(static_cast<int>(control_.size()));
+    matrix_.push_back(el.matrix);
+  }
+}
+
+L2Distance::~L2Distance() = default;
+
+double L2Distance::operator()(const Points& a, const Points& b) const {
+  const int J = h_.levels();
+  if (a.rows() != h_.numVertices(J) || b.rows() != h_.numVertices(J))
+    throw Error("l2Distance: expected " + std::to_string(h_.numVertices(J)) + " points");
   const Points e = a - b;
-  const Connectivity& conn = h.connectivity(J);
-  ElementGram elements(scheme);
   double sum = 0;
   Eigen::MatrixX3d local;
-  for (int f = 0; f < conn.numFaces(); ++f) {
-    const ElementGram::Element el = elements.element(conn, f);
-    local.resize(static_cast<Eigen::Index>(el.control.size()), 3);
-    for (std::size_t p = 0; p < el.control.size(); ++p) local.row(p) = e.row(el.control[p]);
-    sum += (local.transpose() * (*el.matrix) * local).trace();
+  for (std::size_t f = 0; f < matrix_.size(); ++f) {
+    const int first = controlStart_[f], m = controlStart_[f + 1] - first;
+    local.resize(m, 3);
+    for (int p = 0; p < m; ++p) local.row(p) = e.row(control_[first + p]);
+    sum += (local.transpose() * (*matrix_[f]) * local).trace();
   }
   return std::sqrt(std::max(0.0, sum * std::ldexp(1.0, -2 * J)));
 }

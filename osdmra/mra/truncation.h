@@ -7,12 +7,15 @@
 // terms: l2Distance() is the exact parametric L2 norm of the difference.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "osdmra/mra/decomposition.h"
 #include "osdmra/subdivision/hierarchy.h"
 
 namespace osdmra {
+
+class ElementGram;
 
 enum class Importance {
   Scaled,  ///< |d| * ||psi|| (default)
@@ -55,5 +58,21 @@ Decomposition truncate(const Decomposition& d, const KeepMask& keep);
 /// coefficients: sqrt(sum over x, y, z of e^T I^J e), e = a - b. Each base triangle
 /// has area 1, so dividing the square by the base face count gives a mean square.
 double l2Distance(const Hierarchy& h, Scheme scheme, const Points& a, const Points& b);
+
+/// l2Distance for many pairs on one hierarchy: each level-J face's element (its
+/// control set and matrix, element_gram.h) is looked up once, when it is made, instead
+/// of on every call. Same values as l2Distance, bit for bit. `h` must outlive it.
+class L2Distance {
+ public:
+  L2Distance(const Hierarchy& h, Scheme scheme);
+  ~L2Distance();
+  double operator()(const Points& a, const Points& b) const;
+
+ private:
+  const Hierarchy& h_;
+  std::unique_ptr<ElementGram> elements_;    // owns the matrices
+  std::vector<int> controlStart_, control_;  // face f: control_[controlStart_[f]...]
+  std::vector<const Eigen::MatrixXd*> matrix_;
+};
 
 }  // namespace osdmra

@@ -8,9 +8,9 @@
 #include <string>
 #include <unordered_map>
 
+#include "osdmra/base/detail/key_hash.h"
 #include "osdmra/base/error.h"
 #include "osdmra/mra/gram.h"
-#include "osdmra/base/detail/key_hash.h"
 
 namespace osdmra {
 
@@ -204,22 +204,36 @@ Entry solveLocalImpl(const Hierarchy& h, int j, int e, const std::vector<int>& b
       if (mark[it.col()] >= 0)
         q(static_cast<Eigen::Index>(i)) -= it.value() * entry.alpha(mark[it.col()]);
   for (int v : S) mark[v] = -1;
-  const Eigen::MatrixXd Gq = fine.block(support);
   for (int k : support) fineMark[k] = -1;
-  entry.scaledNorm2 = q.dot(Gq * q) * std::ldexp(1.0, 2 * (j + 1));
+  entry.scaledNorm2 = fine.quadraticForm(support, q) * std::ldexp(1.0, 2 * (j + 1));
   return entry;
 }
 
-AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& elements) {
+// alpha^j of the pre-wavelets and, when `norms` is given, ||psi^j_m|| for every new
+// vertex m.
+AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& elements,
+                        Eigen::VectorXd* norms) {
   const int n = h.numVertices(j), nn = h.numVertices(j + 1);
   const SparseMatrix Ij = gram(h.connectivity(j), j, elements);
   const SparseMatrix Ij1 = gram(h.connectivity(j + 1), j + 1, elements);
   const SparseMatrix& P = h.refinement(scheme, j);
-  const Eigen::MatrixXd B = Eigen::MatrixXd(SparseMatrix(P.transpose()) * Ij1).rightCols(nn - n);
+  const SparseMatrix PtI = SparseMatrix(P.transpose()) * Ij1;  // n_j x n_{j+1}
+  const Eigen::MatrixXd B = Eigen::MatrixXd(PtI).rightCols(nn - n);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt{Eigen::SparseMatrix<double>(Ij)};
   if (ldlt.info() != Eigen::Success)
     throw Error("Gram matrix I^" + std::to_string(j) + " is not positive definite");
   const Eigen::MatrixXd alpha = ldlt.solve(B);
+  if (norms) {
+    // ||psi_m||^2 = q^T I^{j+1} q with q = e_m - P alpha_m, expanded as
+    //   I^{j+1}_mm - 2 alpha_m . (P^T I^{j+1} e_m) + alpha_m^T (P^T I^{j+1} P) alpha_m
+    // so that only n_j-row products are formed. Q = E - P alpha is dense: forming it
+    // and I^{j+1} Q as sparse matrices took seconds for a few thousand vertices.
+    const SparseMatrix C = PtI * P;  // n_j x n_j
+    const Eigen::MatrixXd Calpha = C * alpha;
+    const Eigen::VectorXd cross = alpha.cwiseProduct(B).colwise().sum().transpose();
+    const Eigen::VectorXd quad = alpha.cwiseProduct(Calpha).colwise().sum().transpose();
+    *norms = (Eigen::VectorXd(Ij1.diagonal()).tail(nn - n) - 2.0 * cross + quad).cwiseSqrt();
+  }
   return alpha.sparseView(0.0, 0.0);
 }
 
@@ -262,15 +276,7 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     if (progress) progress("wavelets", double(j) / J);
     const SparseMatrix& P = h.refinement(scheme, j);
     if (options.kind == WaveletKind::Pre) {
-      alphas[j] = preWavelets(h, scheme, j, elements);
-      if (norms) {
-        const SparseMatrix Q = synthesisMatrix(h, scheme, j, alphas[j]);
-        const SparseMatrix I = gram(h.connectivity(j + 1), j + 1, elements);
-        const SparseMatrix IQ = I * Q;
-        // ||psi_m||^2 = q_m^T I q_m: column sums of Q .* (I Q).
-        const SparseMatrix QIQ = Q.cwiseProduct(IQ);
-        (*norms)[j] = (Eigen::RowVectorXd::Ones(QIQ.rows()) * QIQ).transpose().cwiseSqrt();
-      }
+      alphas[j] = preWavelets(h, scheme, j, elements, norms ? &(*norms)[j] : nullptr);
       continue;
     }
     const Connectivity& conn = h.connectivity(j);
