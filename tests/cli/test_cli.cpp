@@ -399,3 +399,34 @@ TEST_F(Cli, DecompressDecodesAPrefixAndRefusesOtherFiles) {
   EXPECT_EQ(both.status, 1);
   EXPECT_NE(both.err.find("at most one of"), std::string::npos) << both.err;
 }
+
+TEST_F(Cli, CompressRemeshesAnyManifoldMeshAndRefusesWithoutIt) {
+  // With --remesh any manifold mesh goes through the remesher first (here a displaced
+  // torus, remeshed over a base of about 100 faces), and the stream decodes to a mesh
+  // over the remesher's base with the input's topology.
+  ASSERT_NO_FATAL_FAILURE(makeSurface("torus", "t.obj", "3 --displace 0.02", "t3.obj"));
+  const Result c =
+      run("compress " + path("t3.obj") +
+          " --remesh --base-faces 100 --levels 3 --bytes 3000 --json -o " + path("t.osz"));
+  ASSERT_EQ(c.status, 0) << c.err;
+  EXPECT_NE(c.out.find("\"remesh\": {"), std::string::npos) << c.out;
+  const double bytes = jsonNumber(c.out, "bytes"), baseFaces = jsonNumber(c.out, "base_faces");
+  EXPECT_EQ(bytes, static_cast<double>(fs::file_size(path("t.osz"))));
+  EXPECT_LE(bytes, 3000);
+  EXPECT_GE(bytes, 0.95 * 3000);
+  const Result d = run("decompress " + path("t.osz") + " --json -o " + path("back.obj"));
+  ASSERT_EQ(d.status, 0) << d.err;
+  const TriMesh back = readValidMesh(path("back.obj"));
+  EXPECT_EQ(static_cast<double>(back.F.rows()), baseFaces * 64);
+  EXPECT_EQ(topology(back), topology(readMesh(path("t3.obj"))));
+  // Six faces are no subdivision of anything: without --remesh, a message and no file.
+  {
+    std::ofstream f(path("six.obj"));
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n"
+         "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 5\nf 2 5 4\nf 3 4 5\n";
+  }
+  const Result bad = run("compress " + path("six.obj") + " -o " + path("six.osz"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("no subdivision connectivity"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("six.osz")));
+}
