@@ -62,13 +62,19 @@ Eigen::MatrixXd LocalGram::block(const std::vector<int>& S) {
   for (int i = 0; i < n; ++i) mark_[S[i]] = i;
   facesNear(S);
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(n, n);
+  // Plain column-major indexing in the inner loops: these run for every face of every
+  // local solve, and element-wise operator() costs several times as much with
+  // assertions on (sanitizer builds).
+  double* const b = B.data();
   for (int f : faces_) {
     const ElementGram::Element& e = element(f);
     hits_.clear();
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
       if (mark_[e.control[p]] >= 0) hits_.emplace_back(p, mark_[e.control[p]]);
-    for (auto [p, a] : hits_)
-      for (auto [q, b] : hits_) B(a, b) += scale_ * (*e.matrix)(p, q);
+    const double* const E = e.matrix->data();
+    const Eigen::Index m = e.matrix->rows();
+    for (auto [p, i] : hits_)
+      for (auto [q, k] : hits_) b[i + k * n] += scale_ * E[p + q * m];
   }
   for (int v : S) mark_[v] = -1;
   return B;
@@ -80,16 +86,19 @@ double LocalGram::quadraticForm(const std::vector<int>& S, const Eigen::VectorXd
   facesNear(S);
   // The faces and entries block(S) would sum, each face's share x_e^T E x_e at once.
   double sum = 0;
+  const double* const xs = x.data();
   for (int f : faces_) {
     const ElementGram::Element& e = element(f);
     hits_.clear();
     for (int p = 0; p < static_cast<int>(e.control.size()); ++p)
       if (mark_[e.control[p]] >= 0) hits_.emplace_back(p, mark_[e.control[p]]);
+    const double* const E = e.matrix->data();  // column-major, as in block()
+    const Eigen::Index m = e.matrix->rows();
     double face = 0;
-    for (auto [p, a] : hits_) {
+    for (auto [p, i] : hits_) {
       double row = 0;
-      for (auto [q, b] : hits_) row += (*e.matrix)(p, q) * x(b);
-      face += x(a) * row;
+      for (auto [q, k] : hits_) row += E[p + q * m] * xs[k];
+      face += xs[i] * row;
     }
     sum += face;
   }

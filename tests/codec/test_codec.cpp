@@ -157,7 +157,7 @@ TEST(Codec, EveryPrefixDecodesAndItsErrorFallsWithLength) {
 }
 
 TEST(Codec, RateTargetsAreMet) {
-  const Surface s("octahedron", 5, Scheme::Loop);
+  const Surface s("octahedron", 4, Scheme::Loop);
   const Compressed whole = compress(s.bank, s.d, s.mesh.V);
   for (double fraction : {0.1, 0.3, 0.6}) {
     const double target = fraction * static_cast<double>(whole.bytes.size());
