@@ -57,31 +57,46 @@ bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::arra
          segmentMeetsTriangle(y, z, a, b, c) || segmentMeetsTriangle(z, x, a, b, c);
 }
 
-SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
-  const TriangleBvh bvh(mesh);
-  const int nf = static_cast<int>(mesh.F.rows());
-  auto corner = [&](int f, int k) -> Vec3 { return mesh.V.row(mesh.F(f, k)).transpose(); };
-  auto meet = [&](int f, int g) {
-    return trianglesMeet(mesh.V, {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)},
-                         {mesh.F(g, 0), mesh.F(g, 1), mesh.F(g, 2)});
-  };
-  const int chunks = numChunks(nf, 1 << 12);
-  std::vector<std::vector<std::array<int, 2>>> found(chunks);
-  std::vector<long long> counts(chunks, 0);
-  forChunks(nf, chunks, [&](int chunk, int begin, int end) {
+namespace {
+
+bool facesMeet(const TriMesh& mesh, int f, int g) {
+  return trianglesMeet(mesh.V, {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)},
+                       {mesh.F(g, 0), mesh.F(g, 1), mesh.F(g, 2)});
+}
+
+// For every face f of `mesh`, on all cores in `chunks` even chunks: visit(chunk, f, g)
+// for each face g = faceOf(i) of `bvh`'s triangles i whose box meets f's, in
+// increasing i.
+template <class FaceOf, class Visit>
+void forFacesWithMeetingBoxes(const TriMesh& mesh, const TriangleBvh& bvh, int chunks,
+                              FaceOf faceOf, Visit visit) {
+  forChunks(static_cast<int>(mesh.F.rows()), chunks, [&](int chunk, int begin, int end) {
     std::vector<int> near;
     for (int f = begin; f < end; ++f) {
-      const Vec3 a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+      const Vec3 a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
+                 c = mesh.V.row(mesh.F(f, 2));
       near.clear();
       bvh.facesInBox(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), near);
       std::sort(near.begin(), near.end());
-      for (int g : near) {
-        if (g <= f || !meet(f, g)) continue;
-        ++counts[chunk];
-        if (static_cast<int>(found[chunk].size()) < maxListed) found[chunk].push_back({f, g});
-      }
+      for (int i : near) visit(chunk, f, faceOf(i));
     }
   });
+}
+
+}  // namespace
+
+SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
+  const TriangleBvh bvh(mesh);
+  const int chunks = numChunks(mesh.F.rows(), 1 << 12);
+  std::vector<std::vector<std::array<int, 2>>> found(chunks);
+  std::vector<long long> counts(chunks, 0);
+  forFacesWithMeetingBoxes(
+      mesh, bvh, chunks, [](int i) { return i; },
+      [&](int chunk, int f, int g) {
+        if (g <= f || !facesMeet(mesh, f, g)) return;
+        ++counts[chunk];
+        if (static_cast<int>(found[chunk].size()) < maxListed) found[chunk].push_back({f, g});
+      });
   SelfIntersections out;
   for (int c = 0; c < chunks; ++c) {
     out.count += counts[c];
@@ -103,31 +118,19 @@ std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,
     in[faces[i]] = 1;
   }
   const TriangleBvh bvh(subset);
-  const int nf = static_cast<int>(mesh.F.rows());
-  const int chunks = numChunks(nf, 1 << 12);
+  const int chunks = numChunks(mesh.F.rows(), 1 << 12);
   std::vector<std::vector<std::array<int, 2>>> found(chunks);
-  forChunks(nf, chunks, [&](int chunk, int begin, int end) {
-    std::vector<int> near;
-    for (int f = begin; f < end; ++f) {
-      const Vec3 a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
-                 c = mesh.V.row(mesh.F(f, 2));
-      near.clear();
-      bvh.facesInBox(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), near);
-      for (int i : near) {
-        const int g = faces[i];
+  forFacesWithMeetingBoxes(
+      mesh, bvh, chunks, [&](int i) { return faces[i]; },
+      [&](int chunk, int f, int g) {
         // A pair of two faces of the subset is found from both: kept from the first.
-        if (g == f || (in[f] && g < f)) continue;
+        if (g == f || (in[f] && g < f)) return;
         const int lo = std::min(f, g), hi = std::max(f, g);
-        if (trianglesMeet(mesh.V, {mesh.F(lo, 0), mesh.F(lo, 1), mesh.F(lo, 2)},
-                          {mesh.F(hi, 0), mesh.F(hi, 1), mesh.F(hi, 2)}))
-          found[chunk].push_back({lo, hi});
-      }
-    }
-  });
+        if (facesMeet(mesh, lo, hi)) found[chunk].push_back({lo, hi});
+      });
   std::vector<std::array<int, 2>> out;
   for (const auto& part : found) out.insert(out.end(), part.begin(), part.end());
   std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 

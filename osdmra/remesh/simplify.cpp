@@ -202,20 +202,21 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
   const int numPoints = static_cast<int>(p.flat.points.size());
   const int corners = p.ring.boundary ? numPoints : numPoints - 1;
   if (corners <= 3) return false;
-  // Of the fans that pass, the one from the corner of lowest valence.
-  double best = std::numeric_limits<double>::infinity();
-  std::vector<std::array<int, 3>> chosen;
+  // Of the fans that pass, the one from the corner of lowest valence (kept whole: a
+  // later trial overwrites the plan's placed points).
+  std::size_t best = std::numeric_limits<std::size_t>::max();
+  Plan chosen;
   for (int from = 0; from < corners; ++from) {
     p.triangles = fanOfRing(from, numPoints, p.ring.boundary);
-    const double valence = static_cast<double>(vertFaces_[p.vertex(from)].size());
+    const std::size_t valence = vertFaces_[p.vertex(from)].size();
     if (valence < best && tryTriangulation(v, p, worst)) {
       best = valence;
-      chosen = p.triangles;
+      chosen = p;
     }
   }
-  if (chosen.empty()) return false;
-  p.triangles = std::move(chosen);
-  return tryTriangulation(v, p, worst);
+  if (chosen.triangles.empty()) return false;
+  p = std::move(chosen);
+  return true;
 }
 
 // Whether the plan's triangulation is certified (removal.h), well shaped in the
