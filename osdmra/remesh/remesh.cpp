@@ -13,7 +13,10 @@ namespace osdmra {
 
 namespace {
 
-void checkOptions(const TriMesh& input, const RemeshOptions& options) {
+// The simplification indexes by vertex and walks one-rings: an invalid mesh would make
+// it read out of bounds, so the precondition is checked, not assumed.
+void checkInput(const TriMesh& input, const RemeshOptions& options) {
+  validate(input, "remesh input");
   if (options.baseFaces < 4)
     throw Error("remesh: RemeshOptions::baseFaces must be at least 4, got " +
                 std::to_string(options.baseFaces));
@@ -32,7 +35,7 @@ void checkOptions(const TriMesh& input, const RemeshOptions& options) {
 
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
   using namespace remeshing;
-  checkOptions(input, options);
+  checkInput(input, options);
   Remeshing out;
   const Features features = detectFeatures(input, options.featureAngle);
   out.featureEdges = static_cast<int>(features.list.size());

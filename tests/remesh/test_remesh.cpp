@@ -205,3 +205,21 @@ TEST(Remesh, RejectsBadOptions) {
   large.V *= 1e100;
   EXPECT_NO_THROW(remesh(large, o));
 }
+
+// remesh() is a library entry point: an invalid mesh (here an unreferenced vertex, which
+// scans carry and which made the simplification read out of bounds) is refused with the
+// element named, never a crash.
+TEST(Remesh, RejectsAnInvalidMeshNamingTheElement) {
+  TriMesh ico = shapes::icosahedron();
+  ico.V.conservativeResize(ico.V.rows() + 1, 3);
+  ico.V.row(ico.V.rows() - 1) << 5.0, 5.0, 5.0;
+  RemeshOptions o;
+  o.baseFaces = 10;
+  o.levels = 2;
+  try {
+    remesh(ico, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 12"), std::string::npos) << e.what();
+  }
+}
