@@ -1,6 +1,7 @@
 #include "osdmra/remesh/distortion.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -29,6 +30,35 @@ double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to
   const double s1 = std::sqrt(0.5 * (frob2 + disc));
   const double s2 = det / s1;  // not sqrt(frob2 - disc): that cancels when s1 >> s2
   return s2 > 0 ? s1 / s2 : kInf;
+}
+
+bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid& out) {
+  int apart = -1, shared = 0;
+  std::array<int, 3> at{};  // f's corners in `from`, -1 for the one apart
+  for (int i = 0; i < 3; ++i) {
+    at[i] =
+        static_cast<int>(std::find(from.face.begin(), from.face.end(), f[i]) - from.face.begin());
+    if (at[i] < 3)
+      ++shared;
+    else
+      apart = i;
+  }
+  if (shared != 2) return false;
+  const int iu = (apart + 1) % 3, iw = (apart + 2) % 3;
+  const Vec2 pu = from.pos[at[iu]], pw = from.pos[at[iw]];
+  const Vec3 u = V.row(f[iu]).transpose(), w = V.row(f[iw]).transpose(),
+             o = V.row(f[apart]).transpose();
+  const double len = (pw - pu).norm();
+  if (!(len > 0)) return false;
+  const double du = (o - u).norm(), dw = (o - w).norm();
+  const double x = (du * du - dw * dw + len * len) / (2 * len);
+  const double y = std::sqrt(std::max(0.0, du * du - x * x));
+  const Vec2 ex = (pw - pu) / len;
+  out.face = f;
+  out.pos[iu] = pu;
+  out.pos[iw] = pw;
+  out.pos[apart] = pu + x * ex + y * Vec2(-ex.y(), ex.x());  // left of u -> w
+  return true;
 }
 
 }  // namespace osdmra::remeshing

@@ -6,6 +6,7 @@
 
 #include <array>
 
+#include "osdmra/mesh/mesh.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
@@ -19,5 +20,16 @@ double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to
 /// A 3D triangle laid isometrically in the plane: a at the origin, b on the x axis,
 /// c above it.
 std::array<Vec2, 3> layFlat(const Vec3& a, const Vec3& b, const Vec3& c);
+
+/// A triangle of a mesh laid in a chart: its vertices (ids) and their places.
+struct Laid {
+  std::array<int, 3> face;
+  std::array<Vec2, 3> pos;
+};
+
+/// Triangle `f` (vertex ids into `V`, counter-clockwise) laid isometrically next to
+/// `from` across the edge they share, on the other side of it: `out`. False if they do
+/// not share exactly one edge.
+bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid& out);
 
 }  // namespace osdmra::remeshing

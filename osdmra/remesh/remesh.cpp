@@ -4,10 +4,12 @@
 
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/surface_walk.h"
+#include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/cleanup.h"
 #include "osdmra/remesh/features.h"
 #include "osdmra/remesh/resample.h"
 #include "osdmra/remesh/simplify.h"
+#include "osdmra/remesh/smoothing.h"
 
 namespace osdmra {
 
@@ -48,8 +50,17 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
 
   // Walks on the input (the clean-up's last stage) do not cross its feature lines.
   const SurfaceWalker walker(input, features.list);
+  const BaseCharts charts(s.base);
+  if (options.smoothingSweeps > 0) {
+    std::vector<char> pinned(input.V.rows(), 0);
+    for (const auto& [a, b] : features.list) pinned[a] = pinned[b] = 1;
+    SmoothingOptions smoothing;
+    smoothing.sweeps = options.smoothingSweeps;
+    smoothing.anisotropy = kStages[s.stage].anisotropy;
+    smoothParameters(input, walker.connectivity(), charts, pinned, s, smoothing);
+  }
   Resampled grid =
-      resample(input, walker.connectivity(), features.list, s, options.levels, progress);
+      resample(input, walker.connectivity(), features.list, s, charts, options.levels, progress);
   out.mesh = std::move(grid.mesh);
 
   cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress);

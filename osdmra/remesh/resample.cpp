@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
+#include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
@@ -49,12 +50,14 @@ struct Job {
 class Resampler {
  public:
   Resampler(const TriMesh& input, const Connectivity& inputConn,
-            const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s)
+            const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
+            const BaseCharts& charts)
       : input_(input),
         inputConn_(inputConn),
         s_(s),
         base_(s.base),
-        baseConn_(s.base.F, static_cast<int>(s.base.V.rows())) {
+        baseConn_(s.base.F, static_cast<int>(s.base.V.rows())),
+        charts_(charts) {
     inputOf_.resize(base_.V.rows());
     for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
@@ -82,6 +85,8 @@ class Resampler {
   bool featureEdge(int p, int q) const {
     return s_.featureEdges.count(edgeKey(inputOf_[p], inputOf_[q])) != 0;
   }
+  bool imageIn(int f, int t, std::array<Vec2, 3>& image) const;
+  SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
   int newPoint(const Job& job, bool isFree, long long edge);
   void place(const Job& job, SurfacePoint& where, Vec3& position) const;
   Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
@@ -96,6 +101,7 @@ class Resampler {
   const Connectivity baseConn_;
   std::vector<int> inputOf_;  // base vertex -> input vertex
   std::vector<std::vector<int>> alongFeature_, alongBoundary_;
+  const BaseCharts& charts_;
   // The output under construction.
   int N_ = 1;
   std::unordered_map<std::uint64_t, int> edgePoints_;
@@ -105,11 +111,58 @@ class Resampler {
   Resampled out_;
 };
 
-// Where a grid point lies on the input: at its parameter, through the
-// parameterisation's exact inverse (traceToInput), so that grid points fall in no
-// crack between input triangles; or on the input's line under its base edge.
+// Input triangle t's corners, at their places on the base, in base face f's chart.
+bool Resampler::imageIn(int f, int t, std::array<Vec2, 3>& image) const {
+  for (int k = 0; k < 3; ++k)
+    if (!placeInputVertex(charts_, s_, f, input_.F(t, k), image[k])) return false;
+  return true;
+}
+
+// The point at `bary` of base face f through the parameterisation made straight on
+// every input triangle: the triangle whose corners' parameters hold it in f's chart,
+// found by walking from `from` (the exact inverse's answer, close by), and the same
+// barycentric coordinates in it. Its corners' images are what the simplification's
+// distortion bound checks, so on each input triangle this map is affine and as little
+// distorted as that bound allows: a grid triangle inside one input triangle keeps its
+// orientation. `from` is kept where the walk finds no such triangle.
+SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
+                                 SurfacePoint from) const {
+  const Laid& own = charts_.own(f);
+  const Vec2 at = bary[0] * own.pos[0] + bary[1] * own.pos[1] + bary[2] * own.pos[2];
+  int t = from.triangle, previous = -1;
+  for (int step = 0; step < 16; ++step) {
+    std::array<Vec2, 3> image;
+    if (!imageIn(f, t, image)) return from;
+    const double area = cross2(image[1] - image[0], image[2] - image[0]);
+    if (!(area > 0)) return from;
+    std::array<double, 3> l;
+    for (int k = 0; k < 3; ++k)
+      l[k] = cross2(image[(k + 2) % 3] - image[(k + 1) % 3], at - image[(k + 1) % 3]) / area;
+    const int worst = static_cast<int>(std::min_element(l.begin(), l.end()) - l.begin());
+    if (l[worst] >= -1e-12) {
+      for (double& x : l) x = std::max(x, 0.0);
+      const double sum = l[0] + l[1] + l[2];
+      return {t, {l[0] / sum, l[1] / sum, l[2] / sum}};
+    }
+    // Across the edge facing the most negative coordinate.
+    const int h = 3 * t + (worst + 1) % 3;
+    const int twin = inputConn_.twin(h);
+    if (twin < 0 || twin / 3 == previous) return from;
+    previous = t;
+    t = twin / 3;
+  }
+  return from;
+}
+
+// Where a grid point lies on the input: on the input's line under its base edge, or at
+// its parameter through the parameterisation made straight on each input triangle
+// (straight()), starting from its exact inverse (traceToInput).
 void Resampler::place(const Job& job, SurfacePoint& where, Vec3& position) const {
-  where = job.line ? onLine(*job.line, job.at) : traceToInput(s_.history, job.face, job.bary);
+  if (job.line) {
+    where = onLine(*job.line, job.at);
+  } else {
+    where = straight(job.face, job.bary, traceToInput(s_.history, job.face, job.bary));
+  }
   position = Vec3::Zero();
   for (int i = 0; i < 3; ++i)
     position += where.bary[i] * input_.V.row(input_.F(where.triangle, i)).transpose();
@@ -266,8 +319,8 @@ Resampled Resampler::run(int levels, const Progress& progress) {
 
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
-                   int levels, const Progress& progress) {
-  Resampler r(input, inputConn, inputFeatures, s);
+                   const BaseCharts& charts, int levels, const Progress& progress) {
+  Resampler r(input, inputConn, inputFeatures, s, charts);
   return r.run(levels, progress);
 }
 

@@ -1,9 +1,13 @@
 // Step 2 of remesh.h: the base mesh's faces split J times, every grid point placed on
 // the input through the parameterisation the simplification tracked.
 //
-// Every grid point is mapped to the input by the parameterisation's exact inverse
-// (simplify.h's traceToInput: the removals undone one by one, each a piecewise-linear
-// bijection), so the samples follow the bijection with no crack between charts. Grid
+// Every grid point is mapped to the input by the parameterisation made straight on every
+// input triangle (charts.h): the input triangle whose corners' places hold it in its
+// base face's chart, at the same barycentric coordinates. That map is affine on each
+// input triangle with the distortion the simplification bounded, so a grid triangle
+// inside one input triangle keeps its orientation. The search starts where the exact
+// inverse of the removals puts the point (simplify.h's traceToInput, a bijection), and
+// keeps that place where the charts cannot hold the triangles around. Grid
 // points on feature and boundary base edges are sampled along the input's line itself
 // (the chain of input feature or boundary edges the base edge stands for), at their
 // parameter along it. The grid is laid out first; its points, independent of each
@@ -15,6 +19,7 @@
 #include "osdmra/base/progress.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/mesh/connectivity.h"
+#include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/simplify.h"
 
 namespace osdmra::remeshing {
@@ -32,6 +37,6 @@ struct Resampled {
 /// feature edges `inputFeatures`) at `levels` rounds of 1-to-4 splitting.
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
-                   int levels, const Progress& progress = {});
+                   const BaseCharts& charts, int levels, const Progress& progress = {});
 
 }  // namespace osdmra::remeshing

@@ -10,8 +10,8 @@
 namespace osdmra::remeshing {
 
 const std::vector<StageLimits> kStages = {
-    {2, 15, 1.5}, {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},
-    {8, 10, 1.5}, {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875},
+    {2, 15, 1.5},   {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},          {8, 10, 1.5},
+    {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875}, {24, 5, 1.875, false},
 };
 
 namespace {
@@ -276,46 +276,137 @@ bool Simplifier::placePoints(int v, Plan& p) {
   return true;
 }
 
-// The largest anisotropy of the input triangles that come to lie inside one new face,
-// mapped onto that face laid flat (infinite once over the stage's bound). Corners that
-// are vertices of the new face count as inside it.
-double Simplifier::distortion(const Plan& p) {
-  std::vector<std::array<Vec2, 3>> charts(p.triangles.size());
-  for (std::size_t q = 0; q < p.triangles.size(); ++q) {
-    const auto& t = p.triangles[q];
-    charts[q] = layFlat(V_.row(p.vertex(t[0])).transpose(), V_.row(p.vertex(t[1])).transpose(),
-                        V_.row(p.vertex(t[2])).transpose());
+// Where a corner of an input triangle lies after the plan: a vertex of the mesh, or a
+// face (its three vertices) and barycentric coordinates in it.
+struct Placed {
+  bool isVertex;
+  int vertex;
+  std::array<int, 3> face;
+  std::array<double, 3> bary;
+};
+
+// Whether one face holds all three corners.
+bool insideOneFace(const std::array<Placed, 3>& at) {
+  const Placed* face = nullptr;
+  for (const Placed& c : at)
+    if (!c.isVertex) {
+      if (face && face->face != c.face) return false;
+      face = &c;
+    }
+  if (!face) return false;
+  for (const Placed& c : at)
+    if (c.isVertex && std::count(face->face.begin(), face->face.end(), c.vertex) != 1) return false;
+  return true;
+}
+
+// The corners' images in one chart: the faces holding them laid flat from the first,
+// each next one hinged to one already laid about the edge they share; where their own
+// faces do not chain so, through the faces around a vertex they all share (given by
+// `facesAround`). A triangle straddling an edge or a vertex of the faces is bent there
+// in the parameterisation; unfolded, its image is what the grid samples. False when the
+// corners' faces have no such chart (the triangle is then left unchecked), or a corner
+// that is a vertex of the mesh is not a vertex of one of them.
+template <typename FacesAround>
+bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
+                std::array<Vec2, 3>& image) {
+  std::vector<std::array<int, 3>> candidates;
+  for (const Placed& c : at)
+    if (!c.isVertex && std::find(candidates.begin(), candidates.end(), c.face) == candidates.end())
+      candidates.push_back(c.face);
+  const std::size_t required = candidates.size();
+  if (required == 0) return false;
+  auto inFace = [](int v, const std::array<int, 3>& f) {
+    return std::count(f.begin(), f.end(), v) == 1;
+  };
+  for (const Placed& c : at)
+    if (c.isVertex && std::none_of(candidates.begin(), candidates.end(),
+                                   [&](const auto& f) { return inFace(c.vertex, f); }))
+      return false;
+  std::vector<Laid> laid;
+  auto layFrom = [&] {
+    const auto& f0 = candidates[0];
+    laid = {{f0, layFlat(V.row(f0[0]).transpose(), V.row(f0[1]).transpose(),
+                         V.row(f0[2]).transpose())}};
+    std::vector<char> done(candidates.size(), 0);
+    done[0] = 1;
+    std::size_t found = 1;
+    for (std::size_t head = 0; head < laid.size() && found < required; ++head)
+      for (std::size_t q = 1; q < candidates.size(); ++q) {
+        Laid next;
+        if (done[q] || !hinge(V, laid[head], candidates[q], next)) continue;
+        done[q] = 1;
+        laid.push_back(next);
+        if (q < required) ++found;
+      }
+    return found == required;
+  };
+  if (!layFrom()) {
+    int common = -1;
+    for (int w : candidates[0])
+      if (std::all_of(candidates.begin(), candidates.begin() + required,
+                      [&](const auto& f) { return inFace(w, f); }))
+        common = w;
+    if (common < 0) return false;
+    for (const auto& f : facesAround(common))
+      if (std::find(candidates.begin(), candidates.end(), f) == candidates.end())
+        candidates.push_back(f);
+    if (!layFrom()) return false;
   }
-  // Face q and the barycentric place of input vertex x in it, if x lies in it.
-  auto inFace = [&](int x, int q, std::array<double, 3>& b) {
+  for (int k = 0; k < 3; ++k) {
+    const Placed& c = at[k];
+    for (const Laid& l : laid) {
+      if (c.isVertex) {
+        const auto i = std::find(l.face.begin(), l.face.end(), c.vertex) - l.face.begin();
+        if (i == 3) continue;
+        image[k] = l.pos[i];
+      } else {
+        if (l.face != c.face) continue;
+        image[k] = c.bary[0] * l.pos[0] + c.bary[1] * l.pos[1] + c.bary[2] * l.pos[2];
+      }
+      break;
+    }
+  }
+  return true;
+}
+
+// The largest anisotropy of the input triangles with a corner among the moved points,
+// each mapped onto the faces that hold its corners, laid flat (chartImage; infinite once
+// over the stage's bound).
+double Simplifier::distortion(const Plan& p) {
+  auto newFace = [&](int q) -> std::array<int, 3> {
+    const auto& t = p.triangles[q];
+    return {p.vertex(t[0]), p.vertex(t[1]), p.vertex(t[2])};
+  };
+  auto place = [&](int x) -> Placed {
     if (movedStamp_[x] == plans_) {
       const Plan::Moved& mv = p.moved[movedIndex_[x]];
-      b = mv.bary;
-      return mv.triangle == q;
+      return {false, -1, newFace(mv.triangle), mv.bary};
     }
-    if (removed_[x]) return false;
-    for (int i = 0; i < 3; ++i)
-      if (p.vertex(p.triangles[q][i]) == x) {
-        b = {0, 0, 0};
-        b[i] = 1;
-        return true;
-      }
-    return false;
+    if (!removed_[x]) return {true, x, {}, {}};
+    return {false, -1, faces_[param_[x].face], param_[x].bary};
+  };
+  // The faces around vertex w once the plan is made: the new ones and the others.
+  auto facesAround = [&](int w) {
+    std::vector<std::array<int, 3>> out;
+    for (int f : vertFaces_[w])
+      if (std::find(p.ring.faces.begin(), p.ring.faces.end(), f) == p.ring.faces.end())
+        out.push_back(faces_[f]);
+    for (std::size_t q = 0; q < p.triangles.size(); ++q) {
+      const std::array<int, 3> f = newFace(static_cast<int>(q));
+      if (std::count(f.begin(), f.end(), w) == 1) out.push_back(f);
+    }
+    return out;
   };
   double worst = 1;
   for (const Plan::Moved& mv : p.moved)
     for (int t : inputFaces_[mv.point]) {
+      const std::array<Placed, 3> at = {place(inputF_(t, 0)), place(inputF_(t, 1)),
+                                        place(inputF_(t, 2))};
+      if (!limits().straddlers && !insideOneFace(at)) continue;
       std::array<Vec2, 3> image;
+      if (!chartImage(V_, at, facesAround, image)) continue;
       std::array<Vec3, 3> corners;
-      bool inside = true;
-      for (int c = 0; c < 3 && inside; ++c) {
-        std::array<double, 3> b;
-        inside = inFace(inputF_(t, c), mv.triangle, b);
-        image[c] = b[0] * charts[mv.triangle][0] + b[1] * charts[mv.triangle][1] +
-                   b[2] * charts[mv.triangle][2];
-        corners[c] = V_.row(inputF_(t, c)).transpose();
-      }
-      if (!inside) continue;
+      for (int c = 0; c < 3; ++c) corners[c] = V_.row(inputF_(t, c)).transpose();
       const double a = anisotropy(corners, image);
       if (!(a <= limits().anisotropy)) return std::numeric_limits<double>::infinity();
       worst = std::max(worst, a);

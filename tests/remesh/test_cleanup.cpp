@@ -28,7 +28,7 @@ Sampled sampledSphere() {
   x.features = detectFeatures(x.input, 70.0);
   x.s = simplify(x.input, x.features, 60);
   const SurfaceWalker walker(x.input, x.features.list);
-  x.grid = resample(x.input, walker.connectivity(), x.features.list, x.s, 3);
+  x.grid = resample(x.input, walker.connectivity(), x.features.list, x.s, BaseCharts(x.s.base), 3);
   return x;
 }
 

@@ -46,3 +46,23 @@ TEST(Distortion, AFoldOrADegenerateImageIsInfinite) {
   const std::array<Vec3, 3> sliver{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
   EXPECT_EQ(anisotropy(sliver, {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)}), inf);
 }
+
+// Two triangles of a folded square hinged flat: the square comes back, with its
+// lengths, whatever the fold's angle.
+TEST(Distortion, HingeUnfoldsAFoldedSquare) {
+  for (const double fold : {0.0, 1.0, 2.5}) {
+    SCOPED_TRACE(fold);
+    osdmra::Points V(4, 3);
+    V << 0, 0, 0, 1, 0, 0, 1, std::cos(fold), std::sin(fold), 0, 1, 0;
+    // Faces (0, 1, 3) and (1, 2, 3) share the edge 1-3 and are counter-clockwise.
+    const Laid first{{0, 1, 3}, layFlat(Vec3(V.row(0)), Vec3(V.row(1)), Vec3(V.row(3)))};
+    Laid second;
+    ASSERT_TRUE(hinge(V, first, {1, 2, 3}, second));
+    EXPECT_EQ(second.pos[0], first.pos[1]);
+    EXPECT_EQ(second.pos[2], first.pos[2]);
+    EXPECT_NEAR((second.pos[1] - second.pos[0]).norm(), (V.row(2) - V.row(1)).norm(), 1e-12);
+    EXPECT_NEAR((second.pos[1] - second.pos[2]).norm(), (V.row(2) - V.row(3)).norm(), 1e-12);
+    EXPECT_GT(cross2(second.pos[1] - second.pos[0], second.pos[2] - second.pos[0]), 0);
+    EXPECT_FALSE(hinge(V, first, {0, 1, 3}, second));  // the same face: no edge between
+  }
+}

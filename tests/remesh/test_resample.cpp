@@ -59,7 +59,7 @@ Sampling resampled(const TriMesh& input, int baseFaces, int levels) {
   const Features features = detectFeatures(input, 70.0);
   r.s = simplify(input, features, baseFaces);
   const Connectivity conn(input.F, static_cast<int>(input.V.rows()));
-  r.grid = resample(input, conn, features.list, r.s, levels);
+  r.grid = resample(input, conn, features.list, r.s, BaseCharts(r.s.base), levels);
   return r;
 }
 
