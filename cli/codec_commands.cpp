@@ -38,6 +38,7 @@ CodecOptions codecOptions(const Args& args) {
   o.precision = args.real("precision", o.precision, 1e-9, 0.5);
   o.tangentWeight = args.real("tangent-weight", o.tangentWeight, 1e-3, 1);
   o.levelGain = args.real("level-gain", o.levelGain, 1, 4);
+  o.distance = distanceOptions(args);
   return o;
 }
 

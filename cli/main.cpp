@@ -72,12 +72,14 @@ commands:
                                valences)
   compress IN -o OUT.osz [--psnr P | --bits-per-vertex B | --bytes N] [--scheme S]
                  [--wavelets W] [--rings R] [--psnr-measure surface|vertices]
-                 [--precision E] [--tangent-weight W] [--level-gain G] [--remesh ...]
+                 [--precision E] [--tangent-weight W] [--level-gain G]
+                 [--samples N --seed S] [--remesh ...]
                                progressive wavelet compression (edge zerotrees of the
                                coefficients in local frames, range coded): cut at a
                                PSNR (dB, 20 log10(diagonal / RMS), RMS of the sampled
                                surface distance, or of corresponding vertices with
-                               --psnr-measure vertices), a size in bits per vertex or
+                               --psnr-measure vertices; N samples a side, default
+                               100000), a size in bits per vertex or
                                bytes, or whole (the finest step is E times the
                                diagonal, default 1e-5); any other manifold mesh with
                                --remesh as for analyze

@@ -215,7 +215,7 @@ struct Measured {
 // The coefficient bytes to keep for the target. For a PSNR target, `kept` receives
 // the decode and PSNR of the cut, measured on the way (the search's last success).
 std::size_t cutFor(const FilterBank& bank, const Encoding& e, const Points& finest,
-                   const RateTarget& target, Measured& kept) {
+                   const RateTarget& target, const DistanceOptions& distance, Measured& kept) {
   const std::size_t all = e.file.coefficients.size(), baseBytes = e.file.base.size();
   if (target.kind == RateTarget::Kind::Whole) return all;
   if (target.kind == RateTarget::Kind::Bytes) {
@@ -241,7 +241,7 @@ std::size_t cutFor(const FilterBank& bank, const Encoding& e, const Points& fine
     m.decoded = decodePrefix(bank, e.tree, e.file.header, e.base, e.file.coefficients, n);
     m.quality = target.measure == PsnrMeasure::Vertices
                     ? psnr(m.decoded, finest, diagonal)
-                    : surfacePsnr(TriMesh{m.decoded, reference.F, Points()}, reference);
+                    : surfacePsnr(TriMesh{m.decoded, reference.F, Points()}, reference, distance);
     return m;
   };
   kept = measure(all);
@@ -273,8 +273,9 @@ double psnr(const Points& decoded, const Points& reference, double diagonal) {
   return 20 * std::log10(diagonal / rms);
 }
 
-double surfacePsnr(const TriMesh& decoded, const TriMesh& reference) {
-  const SurfaceDistance d = surfaceDistance(decoded, reference);
+double surfacePsnr(const TriMesh& decoded, const TriMesh& reference,
+                   const DistanceOptions& options) {
+  const SurfaceDistance d = surfaceDistance(decoded, reference, options);
   if (d.rmsRelative == 0) return std::numeric_limits<double>::infinity();
   return -20 * std::log10(d.rmsRelative);
 }
@@ -289,7 +290,7 @@ Compressed compress(const FilterBank& bank, const Decomposition& d, const Points
   out.baseBytes = oszSize(e.file.base.size(), 0);
   out.planes = e.file.header.topPlane + 1;
   Measured kept;
-  const std::size_t keep = cutFor(bank, e, finest, target, kept);
+  const std::size_t keep = cutFor(bank, e, finest, target, options.distance, kept);
   // A PSNR search has decoded the cut already (and measured it by its measure).
   const bool searched = target.kind == RateTarget::Kind::Psnr && kept.bytes == keep;
   const Points c =
@@ -302,7 +303,8 @@ Compressed compress(const FilterBank& bank, const Decomposition& d, const Points
   else if (searched && target.measure == PsnrMeasure::Surface)
     out.psnrSurface = kept.quality;
   else
-    out.psnrSurface = surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()});
+    out.psnrSurface =
+        surfacePsnr(TriMesh{c, F, Points()}, TriMesh{finest, F, Points()}, options.distance);
   e.file.coefficients.resize(keep);
   out.bytes = writeOsz(e.file);
   return out;

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "osdmra/codec/osz_format.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/mra/filter_bank.h"
 
 namespace osdmra {
@@ -56,12 +57,16 @@ struct CodecOptions {
   /// Measure Compressed::psnrSurface (one sampled surface distance, about as long as
   /// the encoding on large meshes); NaN when off. PSNR targets measure it anyway.
   bool measureSurface = true;
+  /// The sampled surface distance behind the surface PSNR (the CLI's --samples and
+  /// --seed). A PSNR target measures it at every step of its search: fewer samples
+  /// search faster, with a coarser measure.
+  DistanceOptions distance;
 };
 
 /// What the RMS of a PSNR is taken over.
 enum class PsnrMeasure {
   /// The sampled symmetric distance between the two surfaces (surfaceDistance with
-  /// its default options: 100,000 samples a side plus every vertex), what
+  /// CodecOptions::distance, by default 100,000 samples a side plus every vertex), what
   /// docs/COMPRESSION.md reports: sliding along the surface costs nothing.
   Surface,
   /// The distance between corresponding vertices: fast, and counts tangential
@@ -128,8 +133,9 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
 
 /// 20 log10(diagonal / RMS) over corresponding rows; +inf for identical points.
 double psnr(const Points& decoded, const Points& reference, double diagonal);
-/// 20 log10(1 / rmsRelative) of surfaceDistance(decoded, reference) with its default
-/// options (the reference's diagonal); +inf for identical surfaces.
-double surfacePsnr(const TriMesh& decoded, const TriMesh& reference);
+/// 20 log10(1 / rmsRelative) of surfaceDistance(decoded, reference, options) (the
+/// reference's diagonal); +inf for identical surfaces.
+double surfacePsnr(const TriMesh& decoded, const TriMesh& reference,
+                   const DistanceOptions& options = {});
 
 }  // namespace osdmra

@@ -158,10 +158,14 @@ TEST(Codec, EveryPrefixDecodesAndItsErrorFallsWithLength) {
 
 TEST(Codec, RateTargetsAreMet) {
   const Surface s("octahedron", 4, Scheme::Loop);
-  const Compressed whole = compress(s.bank, s.d, s.mesh.V);
+  // A PSNR search measures the surface at each step: 20,000 samples a side keep it
+  // quick (the targets hold for whatever measure the options give).
+  CodecOptions o;
+  o.distance.samples = 20000;
+  const Compressed whole = compress(s.bank, s.d, s.mesh.V, RateTarget::whole(), o);
   for (double fraction : {0.1, 0.3, 0.6}) {
     const double target = fraction * static_cast<double>(whole.bytes.size());
-    const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::bytes(target));
+    const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::bytes(target), o);
     EXPECT_LE(static_cast<double>(z.bytes.size()), target);
     EXPECT_GE(static_cast<double>(z.bytes.size()), 0.95 * target);  // within 5%
     // What the encoder reports is what a decoder gets.
@@ -174,17 +178,17 @@ TEST(Codec, RateTargetsAreMet) {
       const auto got = [&](const Compressed& z) {
         return measure == PsnrMeasure::Surface ? z.psnrSurface : z.psnrVertices;
       };
-      const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::psnr(dB, measure));
+      const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::psnr(dB, measure), o);
       EXPECT_GE(got(z), dB);
       // The shortest stream that does it: one byte less falls short, unless the base
       // mesh alone reaches the target.
       if (z.bytes.size() == z.baseBytes) continue;
       const Compressed shorter = compress(
-          s.bank, s.d, s.mesh.V, RateTarget::bytes(static_cast<double>(z.bytes.size()) - 1));
+          s.bank, s.d, s.mesh.V, RateTarget::bytes(static_cast<double>(z.bytes.size()) - 1), o);
       EXPECT_LT(got(shorter), dB);
     }
   // The surface measure forgives sliding along the surface: above the vertex one.
-  const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::bytes(3000));
+  const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::bytes(3000), o);
   EXPECT_GT(z.psnrSurface, z.psnrVertices);
   test::expectContains(
       test::errorOf([&] { compress(s.bank, s.d, s.mesh.V, RateTarget::bytes(20)); }),
