@@ -61,4 +61,36 @@ bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid&
   return true;
 }
 
+std::vector<Laid> layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
+                                  std::size_t needed, std::vector<std::size_t>& index) {
+  const std::array<int, 3>& first = faces[0];
+  std::vector<Laid> laid = {
+      {first, layFlat(V.row(first[0]).transpose(), V.row(first[1]).transpose(),
+                      V.row(first[2]).transpose())}};
+  index = {0};
+  std::vector<char> done(faces.size(), 0);
+  done[0] = 1;
+  std::size_t found = 1;
+  for (std::size_t head = 0; head < laid.size() && found < needed; ++head)
+    for (std::size_t q = 1; q < faces.size(); ++q) {
+      Laid next;
+      if (done[q] || !hinge(V, laid[head], faces[q], next)) continue;
+      done[q] = 1;
+      laid.push_back(next);
+      index.push_back(q);
+      if (q < needed) ++found;
+    }
+  return laid;
+}
+
+bool vertexIn(const std::vector<Laid>& laid, int v, Vec2& at) {
+  for (const Laid& l : laid) {
+    const auto i = std::find(l.face.begin(), l.face.end(), v) - l.face.begin();
+    if (i == 3) continue;
+    at = l.pos[i];
+    return true;
+  }
+  return false;
+}
+
 }  // namespace osdmra::remeshing

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/remesh/planar.h"
@@ -31,5 +32,20 @@ struct Laid {
 /// `from` across the edge they share, on the other side of it: `out`. False if they do
 /// not share exactly one edge.
 bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid& out);
+
+/// Faces (vertex ids into `V`, counter-clockwise) laid in one chart: faces[0] flat, then,
+/// breadth first, each next one hinged to the first face laid before it that shares an
+/// edge with it, until the first `needed` faces are laid or no more join. `index`
+/// receives each laid face's position in `faces`.
+std::vector<Laid> layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
+                                  std::size_t needed, std::vector<std::size_t>& index);
+
+/// The point at barycentric coordinates `bary` of a laid face.
+inline Vec2 pointIn(const Laid& l, const std::array<double, 3>& bary) {
+  return bary[0] * l.pos[0] + bary[1] * l.pos[1] + bary[2] * l.pos[2];
+}
+
+/// Where vertex v lies in the first of `laid` that has it; false if none has.
+bool vertexIn(const std::vector<Laid>& laid, int v, Vec2& at);
 
 }  // namespace osdmra::remeshing

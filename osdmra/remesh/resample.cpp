@@ -127,8 +127,7 @@ bool Resampler::imageIn(int f, int t, std::array<Vec2, 3>& image) const {
 // orientation. `from` is kept where the walk finds no such triangle.
 SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
                                  SurfacePoint from) const {
-  const Laid& own = charts_.own(f);
-  const Vec2 at = bary[0] * own.pos[0] + bary[1] * own.pos[1] + bary[2] * own.pos[2];
+  const Vec2 at = pointIn(charts_.own(f), bary);
   int t = from.triangle, previous = -1;
   for (int step = 0; step < 16; ++step) {
     std::array<Vec2, 3> image;
@@ -139,11 +138,7 @@ SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
     for (int k = 0; k < 3; ++k)
       l[k] = cross2(image[(k + 2) % 3] - image[(k + 1) % 3], at - image[(k + 1) % 3]) / area;
     const int worst = static_cast<int>(std::min_element(l.begin(), l.end()) - l.begin());
-    if (l[worst] >= -1e-12) {
-      for (double& x : l) x = std::max(x, 0.0);
-      const double sum = l[0] + l[1] + l[2];
-      return {t, {l[0] / sum, l[1] / sum, l[2] / sum}};
-    }
+    if (l[worst] >= -1e-12) return {t, clampedBarycentric(l)};
     // Across the edge facing the most negative coordinate.
     const int h = 3 * t + (worst + 1) % 3;
     const int twin = inputConn_.twin(h);

@@ -56,6 +56,7 @@ class Simplifier {
     param_.resize(n);
     movedStamp_.assign(n, -1);
     movedIndex_.assign(n, -1);
+    checkedStamp_.assign(m.F.rows(), -1);
   }
 
   void run(int target, const Progress& progress, Simplification& out);
@@ -92,6 +93,7 @@ class Simplifier {
   std::size_t stage_ = 0;
   int aliveFaces_ = 0, plans_ = 0;
   std::vector<int> movedStamp_, movedIndex_;
+  std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
   std::vector<RemovalRecord> removals_;
   std::vector<int> removalOf_, triangleOf_;
 };
@@ -324,21 +326,11 @@ bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAro
       return false;
   std::vector<Laid> laid;
   auto layFrom = [&] {
-    const auto& f0 = candidates[0];
-    laid = {{f0, layFlat(V.row(f0[0]).transpose(), V.row(f0[1]).transpose(),
-                         V.row(f0[2]).transpose())}};
-    std::vector<char> done(candidates.size(), 0);
-    done[0] = 1;
-    std::size_t found = 1;
-    for (std::size_t head = 0; head < laid.size() && found < required; ++head)
-      for (std::size_t q = 1; q < candidates.size(); ++q) {
-        Laid next;
-        if (done[q] || !hinge(V, laid[head], candidates[q], next)) continue;
-        done[q] = 1;
-        laid.push_back(next);
-        if (q < required) ++found;
-      }
-    return found == required;
+    std::vector<std::size_t> index;
+    laid = layBreadthFirst(V, candidates, required, index);
+    return static_cast<std::size_t>(std::count_if(index.begin(), index.end(), [&](std::size_t q) {
+             return q < required;
+           })) == required;
   };
   if (!layFrom()) {
     int common = -1;
@@ -354,17 +346,13 @@ bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAro
   }
   for (int k = 0; k < 3; ++k) {
     const Placed& c = at[k];
-    for (const Laid& l : laid) {
-      if (c.isVertex) {
-        const auto i = std::find(l.face.begin(), l.face.end(), c.vertex) - l.face.begin();
-        if (i == 3) continue;
-        image[k] = l.pos[i];
-      } else {
-        if (l.face != c.face) continue;
-        image[k] = c.bary[0] * l.pos[0] + c.bary[1] * l.pos[1] + c.bary[2] * l.pos[2];
-      }
-      break;
+    if (c.isVertex) {
+      vertexIn(laid, c.vertex, image[k]);
+      continue;
     }
+    image[k] = pointIn(
+        *std::find_if(laid.begin(), laid.end(), [&](const Laid& l) { return l.face == c.face; }),
+        c.bary);
   }
   return true;
 }
@@ -400,6 +388,8 @@ double Simplifier::distortion(const Plan& p) {
   double worst = 1;
   for (const Plan::Moved& mv : p.moved)
     for (int t : inputFaces_[mv.point]) {
+      if (checkedStamp_[t] == plans_) continue;  // met through another moved corner
+      checkedStamp_[t] = plans_;
       const std::array<Placed, 3> at = {place(inputF_(t, 0)), place(inputF_(t, 1)),
                                         place(inputF_(t, 2))};
       if (!limits().straddlers && !insideOneFace(at)) continue;
