@@ -68,6 +68,10 @@ int cmdCompress(const Argv& argv) {
   const std::string in = args.positional()[0], out = args.require("output");
   AnalysisOptions options = analysisOptions(args);
   options.approximator = false;
+  options.norms = false;
+  // Fixed wavelets by default: within 0.1 dB of quasi-wavelets, and a decoder builds
+  // them without a local solve (docs/COMPRESSION.md). --rings asks for quasi-wavelets.
+  if (!args.has("wavelets") && !args.has("rings")) options.wavelets = {WaveletKind::Fixed, 0};
   const CodecOptions codec = codecOptions(args);
   const auto t0 = Clock::now();
   const LoadedSurface s = loadInput(in, args, opt);
@@ -158,6 +162,7 @@ int cmdDecompress(const Argv& argv) {
                    .add("bit_planes", d.planes)
                    .add("bit_planes_decoded", d.planesDecoded)
                    .add("scheme", schemeName(d.scheme))
+                   .add("wavelets", waveletKindName(d.wavelets.kind))
                    .add("levels", d.levels)
                    .add("vertices", vertices)
                    .add("faces", static_cast<int>(d.mesh.F.rows()))

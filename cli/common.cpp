@@ -38,8 +38,10 @@ WaveletOptions waveletOptions(const Args& args) {
     w.kind = WaveletKind::Quasi;
   else if (kind == "pre")
     w.kind = WaveletKind::Pre;
+  else if (kind == "fixed")
+    w.kind = WaveletKind::Fixed;
   else
-    throw Error("--wavelets must be lazy, quasi or pre, got '" + kind + "'");
+    throw Error("--wavelets must be lazy, quasi, pre or fixed, got '" + kind + "'");
   w.rings = static_cast<int>(args.integer("rings", kDefaultRings, 0, 8));
   if (w.kind != WaveletKind::Quasi) w.rings = 0;
   return w;

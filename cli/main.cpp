@@ -26,7 +26,7 @@ commands:
                                refine a base mesh J times (a test surface when
                                displaced by noise at every level)
   analyze IN -o OUT.mra [--levels J] [--scheme loop|linear]
-                 [--wavelets lazy|quasi|pre] [--rings R] [--remesh ...]
+                 [--wavelets lazy|quasi|pre|fixed] [--rings R] [--remesh ...]
                                decompose a surface with subdivision connectivity (any
                                vertex and face order) into base mesh + wavelet details;
                                any other mesh with --remesh [--base-faces N] (then
@@ -82,7 +82,9 @@ commands:
                                100000), a size in bits per vertex or
                                bytes, or whole (the finest step is E times the
                                diagonal, default 1e-5); any other manifold mesh with
-                               --remesh as for analyze
+                               --remesh as for analyze; wavelets fixed by default
+                               (quasi-wavelets' weights of the regular lattice: no
+                               solve when decoding), or W = quasi (with --rings), lazy
   decompress IN.osz -o OUT [--bytes N]
                                decode the stream, or only its first N bytes (every
                                prefix holding the header and base mesh decodes)

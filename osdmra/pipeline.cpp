@@ -119,7 +119,8 @@ AnalysedSurface::AnalysedSurface(const TriMesh& mesh, const AnalysisOptions& opt
   s.surface = naming(source, [&] { return canonicalSurface(mesh, options.levels); });
   s.times.recover = secondsSince(t);
   t = Clock::now();
-  s.bank = makeFilterBank(s.surface->hierarchy, options.scheme, options.wavelets, progress);
+  s.bank = makeFilterBank(s.surface->hierarchy, options.scheme, options.wavelets, progress,
+                          options.norms || options.approximator);
   s.times.precompute = secondsSince(t);
   t = Clock::now();
   s.d = analyze(s.bank, s.surface->V, progress);

@@ -91,6 +91,10 @@ struct AnalysisOptions {
   /// Build the Approximator (every level-of-detail query needs it). Analysis and
   /// synthesis alone do not, and skip its cost (limit stencils, sorting).
   bool approximator = true;
+  /// Compute the wavelets' norms ||psi^j_m|| (FilterBank::norms), which truncation,
+  /// importance and the Approximator weigh coefficients by. A codec needs none, and
+  /// without them fixed and lazy wavelets need no local solve.
+  bool norms = true;
 };
 
 /// Seconds spent in each stage of AnalysedSurface's construction.

@@ -317,7 +317,7 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   const BaseMesh b = decodeBase(h, f.base, name);
   TriMesh base{dequantiseBase(h, b.coordinates), b.faces, Points()};
   validate(base, name + ": base mesh");
-  const Hierarchy hier(base.F, h.baseVertices, h.levels);
+  const Hierarchy hier(base.F, h.baseVertices, h.levels, h.scheme);
   // The bank without the wavelet norms: synthesis needs only alpha.
   FilterBank bank;
   bank.scheme = h.scheme;

@@ -30,7 +30,7 @@ int schemeCode(Scheme s) {
   return s == Scheme::Loop ? 0 : 1;
 }
 int kindCode(WaveletKind k) {
-  return k == WaveletKind::Lazy ? 0 : k == WaveletKind::Quasi ? 1 : 2;
+  return static_cast<int>(k);  // 0 lazy, 1 quasi, 2 pre, 3 fixed (decomposition.h)
 }
 
 // ---- Writing -----------------------------------------------------------------------
@@ -193,12 +193,10 @@ OszHeader readHeadFields(Reader& r) {
   std::size_t at = r.offset();
   const std::uint32_t scheme = r.u8("scheme"), kind = r.u8("wavelet kind");
   if (scheme > 1) r.fail(at, "scheme code " + std::to_string(scheme) + " (0 loop, 1 linear)");
-  if (kind > 2)
-    r.fail(at + 1, "wavelet kind " + std::to_string(kind) + " (0 lazy, 1 quasi, 2 pre)");
+  if (kind > 3)
+    r.fail(at + 1, "wavelet kind " + std::to_string(kind) + " (0 lazy, 1 quasi, 2 pre, 3 fixed)");
   h.scheme = scheme == 0 ? Scheme::Loop : Scheme::Linear;
-  h.wavelets.kind = kind == 0   ? WaveletKind::Lazy
-                    : kind == 1 ? WaveletKind::Quasi
-                                : WaveletKind::Pre;
+  h.wavelets.kind = static_cast<WaveletKind>(kind);
   at = r.offset();
   h.wavelets.rings = static_cast<int>(r.u8("rings"));
   if (h.wavelets.rings > 8) r.fail(at, "rings " + std::to_string(h.wavelets.rings) + " (0..8)");

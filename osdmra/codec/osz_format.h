@@ -12,7 +12,7 @@
 //           4       tag "HEAD"
 //           4       u32 payload length L (kHeadFixedBytes + the coded base mesh)
 //           1       u8 scheme: 0 loop, 1 linear
-//           1       u8 wavelet kind: 0 lazy, 1 quasi, 2 pre
+//           1       u8 wavelet kind: 0 lazy, 1 quasi, 2 pre, 3 fixed
 //           1       u8 rings (0..8)
 //           1       u8 levels J (1..15)
 //           4       u32 n_0, base vertices (3 .. 3 F_0)

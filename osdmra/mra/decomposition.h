@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/subdivision/hierarchy.h"
 
 namespace osdmra {
 
@@ -17,6 +17,11 @@ enum class WaveletKind : std::uint8_t {
   Lazy = 0,   ///< psi = phi^{j+1}_m: no correction
   Quasi = 1,  ///< local Galerkin correction over the r-ring of the parent edge
   Pre = 2,    ///< exact orthogonal projection onto V^j (dense; small meshes only)
+  /// Quasi-wavelets of the regular lattice at every edge (r = 1 where both ends are
+  /// interior of valence 6, r = 0 elsewhere): no local solves, so a decoder builds
+  /// them as fast as lazy ones; exact quasi-wavelets wherever the neighbourhood is
+  /// the lattice's, an approximation of them elsewhere (rings unused).
+  Fixed = 3,
 };
 const char* waveletKindName(WaveletKind k);
 

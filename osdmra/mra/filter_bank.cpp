@@ -9,12 +9,13 @@
 namespace osdmra {
 
 FilterBank makeFilterBank(const Hierarchy& h, Scheme scheme, const WaveletOptions& wavelets,
-                          const Progress& progress) {
+                          const Progress& progress, bool norms) {
   FilterBank bank;
   bank.scheme = scheme;
   bank.wavelets = wavelets;
   bank.hierarchy = &h;
-  bank.alpha = waveletCorrections(h, scheme, wavelets, progress, &bank.stats, &bank.norms);
+  bank.alpha =
+      waveletCorrections(h, scheme, wavelets, progress, &bank.stats, norms ? &bank.norms : nullptr);
   return bank;
 }
 

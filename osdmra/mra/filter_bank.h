@@ -12,10 +12,10 @@
 
 #include <vector>
 
-#include "osdmra/mra/decomposition.h"
-#include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/base/progress.h"
+#include "osdmra/mra/decomposition.h"
 #include "osdmra/mra/wavelets.h"
+#include "osdmra/subdivision/hierarchy.h"
 
 namespace osdmra {
 
@@ -30,8 +30,10 @@ struct FilterBank {
   WaveletStats stats;
 };
 
+/// With `norms` false, FilterBank::norms stays empty (analysis and synthesis do not
+/// read it; truncation and importance do).
 FilterBank makeFilterBank(const Hierarchy& h, Scheme scheme, const WaveletOptions& wavelets,
-                          const Progress& progress = {});
+                          const Progress& progress = {}, bool norms = true);
 
 /// Decomposes c^J (n_J x 3, canonical order) into c^0 and d^0..d^{J-1}.
 /// The result's baseFaces, scheme, wavelets and levels are filled in.

@@ -65,6 +65,8 @@ int kindCode(WaveletKind k) {
       return 1;
     case WaveletKind::Pre:
       return 2;
+    case WaveletKind::Fixed:
+      return 3;
   }
   return -1;
 }
@@ -267,9 +269,13 @@ Decomposition parse(const std::vector<unsigned char>& bytes, const std::string& 
     case 2:
       d.wavelets.kind = WaveletKind::Pre;
       break;
+    case 3:
+      d.wavelets.kind = WaveletKind::Fixed;
+      break;
     default:
       p.fail(at, "wavelet kind",
-             "code " + std::to_string(bytes[at]) + " is not 0 (lazy), 1 (quasi) or 2 (pre)");
+             "code " + std::to_string(bytes[at]) +
+                 " is not 0 (lazy), 1 (quasi), 2 (pre) or 3 (fixed)");
   }
   at = p.offset();
   d.wavelets.rings = p.i32("rings");

@@ -7,7 +7,7 @@
 //   0       8           signature 89 4D 52 41 0D 0A 1A 0A  ("\x89MRA\r\n\x1a\n")
 //   8       4  u32      format version (1)
 //   12      1  u8       scheme: 0 loop, 1 linear
-//   13      1  u8       wavelet kind: 0 lazy, 1 quasi, 2 pre
+//   13      1  u8       wavelet kind: 0 lazy, 1 quasi, 2 pre, 3 fixed
 //   14      4  i32      rings (>= 0)
 //   18      4  u32      levels J (0..15)
 //   22      4  count    n_0, base vertex count

@@ -22,6 +22,8 @@ const char* waveletKindName(WaveletKind k) {
       return "quasi";
     case WaveletKind::Pre:
       return "pre";
+    case WaveletKind::Fixed:
+      return "fixed";
   }
   return "?";
 }
@@ -154,28 +156,31 @@ class LatticeBalls {
   std::vector<int> queue_, depth_;
 };
 
-// The local Galerkin solution for new vertex n_j + e with S = the first `size`
-// ball vertices, and 4^{j+1} ||psi||^2 with psi = phi^{j+1}_m - sum alpha_i phi^j_i.
-template <class Entry>
-Entry solveLocalImpl(const Hierarchy& h, int j, int e, const std::vector<int>& ball, int size,
-                     const SparseMatrix& P, LocalGram& coarse, LocalGram& fine,
-                     std::vector<int>& mark, std::vector<int>& fineMark) {
-  const int n = h.numVertices(j), m = n + e;
+// The local Galerkin solution alpha over S for new vertex n_j + e.
+Eigen::VectorXd galerkinAlpha(const Hierarchy& h, int j, int e, const std::vector<int>& S,
+                              const SparseMatrix& P, LocalGram& coarse, LocalGram& fine,
+                              std::vector<int>& mark) {
+  const int size = static_cast<int>(S.size());
+  if (size == 0) return Eigen::VectorXd();
+  const int m = h.numVertices(j) + e;
   const auto [a, b] = h.parentEdge(j, e);
-  Entry entry;
-  const std::vector<int> S(ball.begin(), ball.begin() + size);
-  if (size > 0) {
-    const Eigen::MatrixXd G = coarse.block(S);
-    for (int i = 0; i < size; ++i) mark[S[i]] = i;
-    const Eigen::VectorXd rhs = projectColumn(fine.column(m), P, mark, size);
-    Eigen::LLT<Eigen::MatrixXd> llt(G);
-    if (llt.info() != Eigen::Success) {
-      for (int v : S) mark[v] = -1;
-      throw Error("local Gram matrix not positive definite at level " + std::to_string(j) +
-                  ", edge " + std::to_string(a) + "-" + std::to_string(b));
-    }
-    entry.alpha = llt.solve(rhs);
-  }
+  const Eigen::MatrixXd G = coarse.block(S);
+  for (int i = 0; i < size; ++i) mark[S[i]] = i;
+  const Eigen::VectorXd rhs = projectColumn(fine.column(m), P, mark, size);
+  for (int v : S) mark[v] = -1;
+  Eigen::LLT<Eigen::MatrixXd> llt(G);
+  if (llt.info() != Eigen::Success)
+    throw Error("local Gram matrix not positive definite at level " + std::to_string(j) +
+                ", edge " + std::to_string(a) + "-" + std::to_string(b));
+  return llt.solve(rhs);
+}
+
+// 4^{j+1} ||psi||^2 for psi = phi^{j+1}_m - sum_{i in S} alpha_i phi^j_i, m = n_j + e.
+double scaledNorm2(const Hierarchy& h, int j, int e, const std::vector<int>& S,
+                   const Eigen::VectorXd& alpha, const SparseMatrix& P, LocalGram& fine,
+                   std::vector<int>& mark, std::vector<int>& fineMark) {
+  const int m = h.numVertices(j) + e;
+  for (std::size_t i = 0; i < S.size(); ++i) mark[S[i]] = static_cast<int>(i);
   // q = e_m - P alpha on level j+1. P alpha reaches the children of S and of their
   // neighbours (Loop's vertex rule) and the midpoints of edges in the fans of S
   // (Loop's edge rule uses the opposite vertices).
@@ -202,11 +207,77 @@ Entry solveLocalImpl(const Hierarchy& h, int j, int e, const std::vector<int>& b
   for (std::size_t i = 0; i < support.size(); ++i)
     for (SparseMatrix::InnerIterator it(P, support[i]); it; ++it)
       if (mark[it.col()] >= 0)
-        q(static_cast<Eigen::Index>(i)) -= it.value() * entry.alpha(mark[it.col()]);
+        q(static_cast<Eigen::Index>(i)) -= it.value() * alpha(mark[it.col()]);
   for (int v : S) mark[v] = -1;
   for (int k : support) fineMark[k] = -1;
-  entry.scaledNorm2 = fine.quadraticForm(support, q) * std::ldexp(1.0, 2 * (j + 1));
-  return entry;
+  return fine.quadraticForm(support, q) * std::ldexp(1.0, 2 * (j + 1));
+}
+
+// Fixed wavelets' corrections (WaveletKind::Fixed): the quasi-wavelets' of the
+// regular lattice, solved once and written out here, so that decoding a stream never
+// depends on a solver's rounding (Wavelets.FixedWeightsAreTheLatticeQuasiWavelets
+// checks them against the Galerkin solutions). r = 1 reads an end's ring from the
+// other end: positions 1 and 5 are the wings (shared by both ends), 2 and 4 the
+// sides, 3 the vertex across.
+struct LatticeWeights {
+  double pair;                     ///< r = 0: both ends
+  double end, wing, side, across;  ///< r = 1
+};
+constexpr LatticeWeights kLoopLattice{13109.0 / 66367, 0.26026168103351543, -0.017365693237373615,
+                                      -0.060214499406156483, -0.047047034167273409};
+constexpr LatticeWeights kLinearLattice{5.0 / 28, 41.0 / 212, -3.0 / 212, -11.0 / 424, -5.0 / 212};
+
+// Column of alpha^j for edge {a, b} of fixed wavelets as (row, value), rows
+// ascending: the lattice's r = 1 weights where both ends are interior of valence 6
+// (which the lattice's 1-ring needs), its r = 0 weights elsewhere. Any weights give
+// an invertible lifting; these are the quasi-wavelets' wherever the neighbourhood
+// is the lattice's, and within 0.1 dB of them in the codec (docs/COMPRESSION.md).
+void fixedColumn(const Connectivity& conn, int a, int b, const LatticeWeights& w,
+                 std::vector<std::pair<int, double>>& column) {
+  column.clear();
+  const auto regular = [&](int v) { return !conn.isBoundaryVertex(v) && conn.valence(v) == 6; };
+  if (!regular(a) || !regular(b)) {
+    column = {{a, w.pair}, {b, w.pair}};
+  } else {
+    const double byPosition[6] = {w.end, w.wing, w.side, w.across, w.side, w.wing};
+    for (const auto& [u, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      const IndexSpan ring = conn.ring(u);
+      int from = 0;
+      while (ring[from] != other) ++from;
+      column.emplace_back(u, byPosition[0]);
+      for (int i = 1; i < 6; ++i)
+        if (u == a || (i != 1 && i != 5)) column.emplace_back(ring[(from + i) % 6], byPosition[i]);
+    }
+  }
+  std::sort(column.begin(), column.end());
+  // A small closed mesh can wrap an end's ring onto the other's: weights add up.
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < column.size(); ++i)
+    if (n > 0 && column[n - 1].first == column[i].first)
+      column[n - 1].second += column[i].second;
+    else
+      column[n++] = column[i];
+  column.resize(n);
+}
+
+// alpha^j of fixed wavelets, for a decoder: no neighbourhood is looked at beyond the
+// edge's ends.
+AlphaMatrix fixedCorrections(const Hierarchy& h, Scheme scheme, int j) {
+  const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
+  const Connectivity& conn = h.connectivity(j);
+  const LatticeWeights& w = scheme == Scheme::Loop ? kLoopLattice : kLinearLattice;
+  AlphaMatrix alpha(n, numNew);
+  alpha.reserve(static_cast<Eigen::Index>(numNew) * 10);
+  std::vector<std::pair<int, double>> column;
+  for (int e = 0; e < numNew; ++e) {
+    const auto [a, b] = h.parentEdge(j, e);
+    fixedColumn(conn, a, b, w, column);
+    alpha.startVec(e);
+    for (auto [row, value] : column) alpha.insertBack(row, e) = value;
+  }
+  alpha.finalize();
+  alpha.makeCompressed();
+  return alpha;
 }
 
 // alpha^j of the pre-wavelets and, when `norms` is given, ||psi^j_m|| for every new
@@ -252,24 +323,39 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     throw Error("pre-wavelets are dense and limited to " + std::to_string(kMaxPreWaveletVertices) +
                 " finest-level vertices; this surface has " + std::to_string(h.numVertices(J)) +
                 " (use quasi-wavelets)");
+  const bool fixed = options.kind == WaveletKind::Fixed;
+  if (!norms && (fixed || options.kind == WaveletKind::Lazy)) {
+    // What a decoder asks for: corrections that need no neighbourhood (none for lazy
+    // wavelets), and no norms, which would.
+    for (int j = 0; j < J; ++j)
+      if (fixed)
+        alphas[j] = fixedCorrections(h, scheme, j);
+      else
+        alphas[j].resize(h.numVertices(j), h.numVertices(j + 1) - h.numVertices(j));
+    if (progress) progress("wavelets", 1.0);
+    return alphas;
+  }
   ElementGram elements(scheme);
   // One local solution per distinct neighbourhood, in ball order, shared by every
   // level: inner products depend on topology only and scale by 4^-j on both sides
   // of the Galerkin system. The norm is stored as 4^{j+1} ||psi||^2, also invariant.
+  // (Fixed wavelets' alpha is read off the edge's ends; only its norm is shared.)
   struct Entry {
     Eigen::VectorXd alpha;
     double scaledNorm2 = 0;
   };
   std::unordered_map<std::vector<int>, Entry, KeyHash> cache;
-  // Lazy wavelets are quasi-wavelets with an empty S (r = -1).
-  const int r = options.kind == WaveletKind::Lazy ? -1 : options.rings;
+  // Lazy wavelets are quasi-wavelets with an empty S (r = -1); fixed ones reach one
+  // ring.
+  const int r = options.kind == WaveletKind::Lazy ? -1 : fixed ? 1 : options.rings;
+  const LatticeWeights& lattice = scheme == Scheme::Loop ? kLoopLattice : kLinearLattice;
   // Radius that determines alpha and the norm: r rings of S, plus the reach of the
   // Gram entries (supports and element types: 3 rings for Loop, 1 for polyhedral)
   // and of b = P^T I^{j+1} e_m.
   const int K = r + (scheme == Scheme::Loop ? 4 : 2);
   std::optional<Entry> regularEntry;
   // The K-ball of edge {a, b} lies in the (K+1)-balls of a and of b.
-  LatticeBalls lattice(K + 1);
+  LatticeBalls latticeBalls(K + 1);
 
   for (int j = 0; j < J; ++j) {
     const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
@@ -286,7 +372,7 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     std::vector<int> mark(n, -1), fineMark;
     // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
     // encoding it and reuse the regular solution.
-    lattice.advance(h, j);
+    latticeBalls.advance(h, j);
     // alpha^j filled column by column in compressed form (rows sorted within each
     // column), straight into its final storage.
     AlphaMatrix& alpha = alphas[j];
@@ -294,18 +380,43 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     alpha.reserve(static_cast<Eigen::Index>(numNew) *
                   (regularEntry ? regularEntry->alpha.size() : 2 * (r + 1) * (r + 2) + 2));
     std::vector<std::pair<int, double>> column;
-    auto appendColumn = [&](int e, const int* rows, const Eigen::VectorXd& a) {
+    // The column of edge e, (row, value) with rows ascending.
+    auto columnOf = [&](int e, const Entry& entry) {
+      const auto [a, b] = h.parentEdge(j, e);
+      if (fixed) return fixedColumn(conn, a, b, lattice, column);
       column.clear();
-      for (Eigen::Index i = 0; i < a.size(); ++i) column.emplace_back(rows[i], a(i));
+      for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
+        column.emplace_back(ball.verts[i], entry.alpha(i));
       std::sort(column.begin(), column.end());
-      alpha.startVec(e);
-      for (auto [row, value] : column) alpha.insertBack(row, e) = value;
+    };
+    auto solve = [&](int e) {
+      if (!coarse) {
+        coarse.emplace(conn, j, elements);
+        fine.emplace(h.connectivity(j + 1), j + 1, elements);
+        fineMark.assign(h.numVertices(j + 1), -1);
+      }
+      Entry entry;
+      std::vector<int> S(ball.verts.begin(), ball.verts.begin() + ball.within(r));
+      if (fixed) {
+        columnOf(e, entry);
+        S.clear();
+        entry.alpha.resize(static_cast<Eigen::Index>(column.size()));
+        for (std::size_t i = 0; i < column.size(); ++i) {
+          S.push_back(column[i].first);
+          entry.alpha(static_cast<Eigen::Index>(i)) = column[i].second;
+        }
+      } else {
+        entry.alpha = galerkinAlpha(h, j, e, S, P, *coarse, *fine, mark);
+      }
+      if (norms) entry.scaledNorm2 = scaledNorm2(h, j, e, S, entry.alpha, P, *fine, mark, fineMark);
+      if (stats) ++stats->localSolves;
+      return entry;
     };
     Eigen::VectorXd levelNorms(norms ? numNew : 0);
     const double normScale = std::ldexp(1.0, -2 * (j + 1));
     for (int e = 0; e < numNew; ++e) {
       const auto [a, b] = h.parentEdge(j, e);
-      const bool regular = lattice(a) && lattice(b);
+      const bool regular = latticeBalls(a) && latticeBalls(b);
       const Entry* entry = nullptr;
       if (regular && regularEntry) {
         ball.build(a, b, std::max(r, 0), false);
@@ -314,24 +425,16 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
       } else {
         ball.build(a, b, K);
         auto it = cache.find(ball.key);
-        if (it == cache.end()) {
-          if (!coarse) {
-            coarse.emplace(conn, j, elements);
-            fine.emplace(h.connectivity(j + 1), j + 1, elements);
-            fineMark.assign(h.numVertices(j + 1), -1);
-          }
-          it = cache
-                   .emplace(ball.key, solveLocalImpl<Entry>(h, j, e, ball.verts, ball.within(r), P,
-                                                            *coarse, *fine, mark, fineMark))
-                   .first;
-          if (stats) ++stats->localSolves;
-        } else if (stats) {
+        if (it == cache.end())
+          it = cache.emplace(ball.key, solve(e)).first;
+        else if (stats)
           ++stats->reused;
-        }
         entry = &it->second;
         if (regular) regularEntry = *entry;
       }
-      appendColumn(e, ball.verts.data(), entry->alpha);
+      columnOf(e, *entry);
+      alpha.startVec(e);
+      for (auto [row, value] : column) alpha.insertBack(row, e) = value;
       if (norms) levelNorms(e) = std::sqrt(entry->scaledNorm2 * normScale);
       ball.clear();
     }

@@ -18,6 +18,7 @@
 #include <Eigen/SparseCore>
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,12 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 class Hierarchy {
  public:
-  /// Refines the connectivity of a validated base mesh `levels` times (0..15).
-  Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels);
+  /// Refines the connectivity of a validated base mesh `levels` times (0..15). With
+  /// `only`, the refinement matrices of that scheme alone are extracted (a decoder
+  /// knows its scheme; each scheme's matrices cost time and memory of the order of
+  /// the finest level), and refinement() of the other throws.
+  Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
+            std::optional<Scheme> only = std::nullopt);
   ~Hierarchy();
   Hierarchy(Hierarchy&&) noexcept;
   Hierarchy& operator=(Hierarchy&&) noexcept;

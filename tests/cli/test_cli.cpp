@@ -405,6 +405,25 @@ TEST_F(Cli, DecompressDecodesAPrefixAndRefusesOtherFiles) {
   EXPECT_NE(both.err.find("at most one of"), std::string::npos) << both.err;
 }
 
+// compress codes with fixed wavelets unless asked otherwise (--rings asks for
+// quasi-wavelets), and the decoder reports what the stream holds.
+TEST_F(Cli, CompressDefaultsToFixedWavelets) {
+  ASSERT_NO_FATAL_FAILURE(makeSurface("octahedron", "oct.obj", "3 --displace 0.02", "oct3.obj"));
+  for (const auto& [flags, kind] : {std::pair<std::string, std::string>{"", "fixed"},
+                                    {"--rings 2", "quasi"},
+                                    {"--wavelets lazy", "lazy"},
+                                    {"--wavelets quasi", "quasi"}}) {
+    SCOPED_TRACE(flags);
+    const Result c =
+        run("compress " + path("oct3.obj") + " " + flags + " --json -o " + path("o.osz"));
+    ASSERT_EQ(c.status, 0) << c.err;
+    EXPECT_NE(c.out.find("\"wavelets\": \"" + kind + "\""), std::string::npos) << c.out;
+    const Result d = run("decompress " + path("o.osz") + " --json -o " + path("o.obj"));
+    ASSERT_EQ(d.status, 0) << d.err;
+    EXPECT_NE(d.out.find("\"wavelets\": \"" + kind + "\""), std::string::npos) << d.out;
+  }
+}
+
 TEST_F(Cli, CompressRemeshesAnyManifoldMeshAndRefusesWithoutIt) {
   // With --remesh any manifold mesh goes through the remesher first (here a displaced
   // torus, remeshed over a base of about 100 faces), and the stream decodes to a mesh

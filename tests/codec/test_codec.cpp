@@ -71,7 +71,9 @@ TEST(Codec, WholeStreamsAreWithinTheQuantisationBound) {
                         Case{"octahedron", 4, Scheme::Linear, WaveletKind::Lazy},
                         Case{"torus", 3, Scheme::Loop, WaveletKind::Lazy},
                         Case{"disc", 3, Scheme::Loop, WaveletKind::Quasi},
-                        Case{"cylinder", 3, Scheme::Linear, WaveletKind::Quasi}}) {
+                        Case{"cylinder", 3, Scheme::Linear, WaveletKind::Quasi},
+                        Case{"valences", 3, Scheme::Loop, WaveletKind::Fixed},
+                        Case{"disc", 3, Scheme::Linear, WaveletKind::Fixed}}) {
     SCOPED_TRACE(std::string(c.shape) + " " + schemeName(c.scheme));
     WaveletOptions w;
     w.kind = c.kind;

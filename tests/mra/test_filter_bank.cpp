@@ -32,7 +32,8 @@ std::vector<Case> reconstructionCases() {
   std::vector<Case> cases;
   const std::vector<WaveletOptions> kinds = {{WaveletKind::Lazy, 0},  {WaveletKind::Quasi, 0},
                                              {WaveletKind::Quasi, 1}, {WaveletKind::Quasi, 2},
-                                             {WaveletKind::Quasi, 4}, {WaveletKind::Pre, 0}};
+                                             {WaveletKind::Quasi, 4}, {WaveletKind::Pre, 0},
+                                             {WaveletKind::Fixed, 0}};
   for (auto& [name, mesh] : shapes::all())
     for (Scheme s : {Scheme::Loop, Scheme::Linear})
       for (const WaveletOptions& k : kinds) cases.push_back({name, s, k});

@@ -139,7 +139,8 @@ TEST(MraFile, RoundTripIsExactWithAndWithoutOptionalParts) {
 
 TEST(MraFile, RoundTripKeepsEveryEnumValue) {
   for (Scheme s : {Scheme::Loop, Scheme::Linear})
-    for (WaveletKind k : {WaveletKind::Lazy, WaveletKind::Quasi, WaveletKind::Pre}) {
+    for (WaveletKind k :
+         {WaveletKind::Lazy, WaveletKind::Quasi, WaveletKind::Pre, WaveletKind::Fixed}) {
       Decomposition d = makeDecomposition(1, false, false);
       d.scheme = s;
       d.wavelets.kind = k;
@@ -326,7 +327,7 @@ TEST(MraFile, ValuesOutOfRangeAreRejectedEvenWithAValidChecksum) {
     return readError(b);
   };
   EXPECT_NE(withByte(kSchemeAt, 2).find("scheme"), std::string::npos);
-  EXPECT_NE(withByte(kKindAt, 3).find("wavelet kind"), std::string::npos);
+  EXPECT_NE(withByte(kKindAt, 4).find("wavelet kind"), std::string::npos);
   EXPECT_NE(withByte(kRingsAt + 3, 0x80).find("negative"), std::string::npos);
   EXPECT_NE(withByte(kFacesAt + 4, 9).find("outside 0..5"), std::string::npos);
   EXPECT_NE(withByte(kFacesAt + 4, 0).find("repeats a vertex"), std::string::npos);

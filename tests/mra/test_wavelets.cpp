@@ -189,7 +189,7 @@ TEST(Wavelets, QuasiWaveletsOverTheWholeLevelArePreWavelets) {
 
 // On the torus every vertex is regular: a handful of distinct neighbourhoods (the
 // first levels, before rings stop wrapping around) serve thousands of wavelets. Every
-// new vertex is either solved or reused.
+// new vertex is either solved or reused; lazy wavelets without norms solve nothing.
 TEST(Wavelets, ReuseOnARegularSurface) {
   const TriMesh base = shapes::torus();
   const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
@@ -198,7 +198,17 @@ TEST(Wavelets, ReuseOnARegularSurface) {
     for (const WaveletOptions& k : {kLazy, quasi(0), quasi(1), quasi(2)}) {
       SCOPED_TRACE(std::string(schemeName(s)) + " " + waveletsName(k));
       WaveletStats stats;
-      waveletCorrections(h, s, k, {}, &stats);
+      std::vector<Eigen::VectorXd> norms;
+      const std::vector<AlphaMatrix> alpha = waveletCorrections(h, s, k, {}, &stats);
+      if (k.kind == WaveletKind::Lazy) {
+        EXPECT_EQ(stats.localSolves + stats.reused, 0);
+        for (int j = 0; j < 4; ++j) {
+          EXPECT_EQ(alpha[j].nonZeros(), 0);
+          EXPECT_EQ(alpha[j].rows(), h.numVertices(j));
+          EXPECT_EQ(alpha[j].cols(), h.numVertices(j + 1) - h.numVertices(j));
+        }
+        waveletCorrections(h, s, k, {}, &stats, &norms);  // the norms need the solves
+      }
       EXPECT_EQ(stats.localSolves + stats.reused, added);
       EXPECT_GE(stats.localSolves, 1);
       EXPECT_LT(stats.localSolves * 500, added) << stats.localSolves << " solves";
@@ -278,7 +288,8 @@ TEST(Wavelets, NormsMatchAssembledGram) {
     for (Scheme s : {Scheme::Loop, Scheme::Linear})
       for (WaveletOptions k :
            {WaveletOptions{WaveletKind::Lazy, 0}, WaveletOptions{WaveletKind::Quasi, 1},
-            WaveletOptions{WaveletKind::Quasi, 2}, WaveletOptions{WaveletKind::Pre, 0}}) {
+            WaveletOptions{WaveletKind::Quasi, 2}, WaveletOptions{WaveletKind::Pre, 0},
+            WaveletOptions{WaveletKind::Fixed, 0}}) {
         SCOPED_TRACE(std::string(name) + " " + schemeName(s) + " " + waveletsName(k));
         const TriMesh base = shapes::byName(name);
         const int J = k.kind == WaveletKind::Pre ? 2 : 3;  // pre-wavelets are dense
@@ -297,4 +308,52 @@ TEST(Wavelets, NormsMatchAssembledGram) {
               << "level " << j;
         }
       }
+}
+
+// Fixed wavelets are the quasi-wavelets of the regular lattice written out: on the
+// torus's level 3, where every edge's neighbourhood is the lattice's, they equal the
+// Galerkin quasi-wavelets with r = 1 column for column; where an end is irregular
+// (the valences shape) the column is the two ends with the lattice's r = 0 weight;
+// they need no local solve, and asking for their norms leaves alpha unchanged.
+TEST(Wavelets, FixedWeightsAreTheLatticeQuasiWavelets) {
+  const TriMesh torus = shapes::torus(), valences = shapes::valences();
+  const Hierarchy lattice(torus.F, static_cast<int>(torus.V.rows()), 4);
+  const Hierarchy irregular(valences.F, static_cast<int>(valences.V.rows()), 2);
+  const WaveletOptions fixed{WaveletKind::Fixed, 0};
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    WaveletStats stats;
+    const AlphaMatrix f = waveletCorrections(lattice, s, fixed, {}, &stats)[3];
+    EXPECT_EQ(stats.localSolves + stats.reused, 0);
+    const AlphaMatrix q1 = waveletCorrections(lattice, s, quasi(1))[3];
+    ASSERT_EQ(f.nonZeros(), q1.nonZeros());
+    EXPECT_LT(Eigen::MatrixXd(Eigen::MatrixXd(f) - Eigen::MatrixXd(q1)).cwiseAbs().maxCoeff(),
+              1e-12);
+    // The lattice's r = 0 weight, and where fixed wavelets use it.
+    const AlphaMatrix q0 = waveletCorrections(lattice, s, quasi(0))[3];
+    const double pair = q0.valuePtr()[0];
+    for (Eigen::Index k = 0; k < q0.nonZeros(); ++k) EXPECT_NEAR(q0.valuePtr()[k], pair, 1e-12);
+    const std::vector<AlphaMatrix> fi = waveletCorrections(irregular, s, fixed);
+    int twoPoint = 0;
+    for (int j = 0; j < 2; ++j) {
+      const Connectivity& c = irregular.connectivity(j);
+      for (int e = 0; e < fi[j].cols(); ++e) {
+        const auto [a, b] = irregular.parentEdge(j, e);
+        const bool regular = !c.isBoundaryVertex(a) && !c.isBoundaryVertex(b) &&
+                             c.valence(a) == 6 && c.valence(b) == 6;
+        const std::set<int> expected = regular ? ringsAround(c, a, b, 1) : std::set<int>{a, b};
+        EXPECT_EQ(pattern(fi[j], e), expected);
+        if (regular) continue;
+        ++twoPoint;
+        EXPECT_NEAR(fi[j].coeff(a, e), pair, 1e-12);
+        EXPECT_NEAR(fi[j].coeff(b, e), pair, 1e-12);
+      }
+    }
+    EXPECT_GT(twoPoint, 0);
+    std::vector<Eigen::VectorXd> norms;
+    const std::vector<AlphaMatrix> withNorms =
+        waveletCorrections(irregular, s, fixed, {}, nullptr, &norms);
+    for (int j = 0; j < 2; ++j)
+      EXPECT_EQ(Eigen::MatrixXd(withNorms[j]), Eigen::MatrixXd(fi[j])) << "level " << j;
+  }
 }

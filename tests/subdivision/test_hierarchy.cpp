@@ -2,6 +2,10 @@
 // checked against the faces themselves, and Loop limit evaluation.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+
+#include "osdmra/base/error.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/subdivision/shapes.h"
@@ -71,4 +75,69 @@ TEST(Hierarchy, LoopLimitPositionsAndNormals) {
   Points p, n;
   h.loopLimit(0, ico.V, p, n);
   for (int v = 0; v < 12; ++v) EXPECT_GT(n.row(v).dot(p.row(v)), 0.0);
+}
+
+// Every row of P^{j+1} is Loop's closed-form rule (or the linear one), stored in
+// compressed rows with ascending columns: vertex rows beta = (5/8 - (3/8 + cos(2 pi /
+// k) / 4)^2) / k on each of k neighbours (1/8, 3/4, 1/8 on a boundary), edge rows 3/8
+// on the ends and 1/8 on the opposite vertices (1/2, 1/2 on a boundary); linear rows
+// 1 and 1/2, 1/2 (other columns, if stored, hold 0). A hierarchy built for one scheme holds the
+// same matrices for it and refuses the other.
+TEST(Hierarchy, RefinementRowsAreTheClosedFormRules) {
+  const double pi = std::acos(-1.0);
+  for (const char* name : {"valences", "disc"}) {
+    SCOPED_TRACE(name);
+    const TriMesh base = shapes::byName(name);
+    const int n0 = static_cast<int>(base.V.rows());
+    const Hierarchy h(base.F, n0, 2);
+    for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+      const Hierarchy only(base.F, n0, 2, s);
+      EXPECT_THROW(only.refinement(s == Scheme::Loop ? Scheme::Linear : Scheme::Loop, 0), Error);
+      for (int j = 0; j < 2; ++j) {
+        const SparseMatrix& P = h.refinement(s, j);
+        ASSERT_TRUE(P.isCompressed());
+        EXPECT_EQ(Eigen::MatrixXd(P), Eigen::MatrixXd(only.refinement(s, j)));
+        const Connectivity& c = h.connectivity(j);
+        const int n = h.numVertices(j);
+        for (int r = 0; r < P.rows(); ++r) {
+          std::map<int, double> expected;
+          if (r < n && s == Scheme::Linear) {
+            expected[r] = 1;
+          } else if (r < n && c.isBoundaryVertex(r)) {
+            const IndexSpan ring = c.ring(r);
+            expected = {{r, 0.75}, {ring[0], 0.125}, {ring[ring.size() - 1], 0.125}};
+          } else if (r < n) {
+            const int k = c.valence(r);
+            const double t = 0.375 + 0.25 * std::cos(2 * pi / k), beta = (0.625 - t * t) / k;
+            expected[r] = 1 - k * beta;
+            for (int w : c.ring(r)) expected[w] = beta;
+          } else {
+            const auto [a, b] = h.parentEdge(j, r - n);
+            const bool interior = s == Scheme::Loop && !c.isBoundaryEdge(c.findEdge(a, b));
+            expected = {{a, interior ? 0.375 : 0.5}, {b, interior ? 0.375 : 0.5}};
+            if (interior)  // the third corners of the edge's two faces
+              for (int hh :
+                   {c.edgeHalfedge(c.findEdge(a, b)), c.twin(c.edgeHalfedge(c.findEdge(a, b)))})
+                expected[c.from(Connectivity::prev(hh))] = 0.125;
+          }
+          std::map<int, double> stored;
+          int previous = -1;
+          for (SparseMatrix::InnerIterator it(P, r); it; ++it) {
+            EXPECT_GT(it.col(), previous) << "row " << r;
+            previous = static_cast<int>(it.col());
+            stored[static_cast<int>(it.col())] = it.value();
+          }
+          // OpenSubdiv's boundary rule also lists the interior neighbours, with 0.
+          for (const auto& [col, value] : stored)
+            if (!expected.count(col)) {
+              EXPECT_EQ(value, 0.0) << "row " << r << " column " << col;
+            }
+          for (const auto& [col, value] : expected) {
+            ASSERT_TRUE(stored.count(col)) << "row " << r << " column " << col;
+            EXPECT_NEAR(stored[col], value, 1e-15) << "row " << r << " column " << col;
+          }
+        }
+      }
+    }
+  }
 }
