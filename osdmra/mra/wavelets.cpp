@@ -310,19 +310,184 @@ AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& e
 
 }  // namespace
 
-std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
-                                            const WaveletOptions& options, const Progress& progress,
-                                            WaveletStats* stats,
-                                            std::vector<Eigen::VectorXd>* norms) {
+namespace {
+
+// Quasi-wavelets (and lazy ones with norms, and fixed ones with norms), level by
+// level: one local solution per distinct neighbourhood, in ball order, shared by
+// every level, since inner products depend on topology only and scale by 4^-j on
+// both sides of the Galerkin system. The norm is stored as 4^{j+1} ||psi||^2, also
+// invariant. Fixed wavelets' alpha is read off the edge's ends; only its norm is
+// shared.
+class LocalCorrections {
+ public:
+  LocalCorrections(const Hierarchy& h, Scheme scheme, const WaveletOptions& options,
+                   WaveletStats* stats)
+      : h_(h),
+        scheme_(scheme),
+        fixed_(options.kind == WaveletKind::Fixed),
+        // Lazy wavelets are quasi-wavelets with an empty S (r = -1); fixed ones reach
+        // one ring.
+        r_(options.kind == WaveletKind::Lazy ? -1
+           : fixed_                          ? 1
+                                             : options.rings),
+        // Radius that determines alpha and the norm: r rings of S, plus the reach of
+        // the Gram entries (supports and element types: 3 rings for Loop, 1 for
+        // polyhedral) and of b = P^T I^{j+1} e_m.
+        K_(r_ + (scheme == Scheme::Loop ? 4 : 2)),
+        lattice_(scheme == Scheme::Loop ? kLoopLattice : kLinearLattice),
+        elements_(scheme),
+        // The K-ball of edge {a, b} lies in the (K+1)-balls of a and of b.
+        latticeBalls_(K_ + 1),
+        stats_(stats) {}
+
+  ElementGram& elements() { return elements_; }
+
+  /// alpha^j, and the norms of level j's wavelets when `norms` is given.
+  AlphaMatrix level(int j, Eigen::VectorXd* norms);
+
+ private:
+  struct Entry {
+    Eigen::VectorXd alpha;
+    double scaledNorm2 = 0;
+  };
+  // Per level: what the solves of level j share.
+  struct Level {
+    int j;
+    const Connectivity& conn;
+    const SparseMatrix& P;
+    EdgeBall ball;
+    // Built on the first cache miss only: at fine levels nearly every edge hits.
+    std::optional<LocalGram> coarse, fine;
+    std::vector<int> mark, fineMark;
+    std::vector<std::pair<int, double>> column;
+  };
+  const Entry& entryOf(Level& L, int e, bool withNorm);
+  Entry solve(Level& L, int e, bool withNorm);
+  void columnOf(Level& L, int e, const Entry& entry);
+
+  const Hierarchy& h_;
+  Scheme scheme_;
+  bool fixed_;
+  int r_, K_;
+  const LatticeWeights& lattice_;
+  ElementGram elements_;
+  LatticeBalls latticeBalls_;
+  WaveletStats* stats_;
+  std::unordered_map<std::vector<int>, Entry, KeyHash> cache_;
+  std::optional<Entry> regularEntry_;
+};
+
+AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms) {
+  const int n = h_.numVertices(j), numNew = h_.numVertices(j + 1) - n;
+  Level L{j,
+          h_.connectivity(j),
+          h_.refinement(scheme_, j),
+          EdgeBall(h_.connectivity(j)),
+          {},
+          {},
+          std::vector<int>(n, -1),
+          {},
+          {}};
+  // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
+  // encoding it and reuse the regular solution.
+  latticeBalls_.advance(h_, j);
+  // alpha^j filled column by column in compressed form (rows sorted within each
+  // column), straight into its final storage.
+  AlphaMatrix alpha(n, numNew);
+  alpha.reserve(static_cast<Eigen::Index>(numNew) *
+                (regularEntry_ ? regularEntry_->alpha.size() : 2 * (r_ + 1) * (r_ + 2) + 2));
+  if (norms) norms->resize(numNew);
+  const double normScale = std::ldexp(1.0, -2 * (j + 1));
+  for (int e = 0; e < numNew; ++e) {
+    const Entry& entry = entryOf(L, e, norms != nullptr);
+    columnOf(L, e, entry);
+    alpha.startVec(e);
+    for (auto [row, value] : L.column) alpha.insertBack(row, e) = value;
+    if (norms) (*norms)(e) = std::sqrt(entry.scaledNorm2 * normScale);
+    L.ball.clear();
+  }
+  alpha.finalize();
+  alpha.makeCompressed();
+  return alpha;
+}
+
+// The shared solution of edge e's neighbourhood (L.ball holds its ball afterwards).
+const LocalCorrections::Entry& LocalCorrections::entryOf(Level& L, int e, bool withNorm) {
+  const auto [a, b] = h_.parentEdge(L.j, e);
+  const bool regular = latticeBalls_(a) && latticeBalls_(b);
+  if (regular && regularEntry_) {
+    L.ball.build(a, b, std::max(r_, 0), false);
+    if (stats_) ++stats_->reused;
+    return *regularEntry_;
+  }
+  L.ball.build(a, b, K_);
+  auto it = cache_.find(L.ball.key);
+  if (it == cache_.end())
+    it = cache_.emplace(L.ball.key, solve(L, e, withNorm)).first;
+  else if (stats_)
+    ++stats_->reused;
+  if (regular) regularEntry_ = it->second;
+  return it->second;
+}
+
+LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) {
+  if (!L.coarse) {
+    L.coarse.emplace(L.conn, L.j, elements_);
+    L.fine.emplace(h_.connectivity(L.j + 1), L.j + 1, elements_);
+    L.fineMark.assign(h_.numVertices(L.j + 1), -1);
+  }
+  Entry entry;
+  std::vector<int> S(L.ball.verts.begin(), L.ball.verts.begin() + L.ball.within(r_));
+  if (fixed_) {
+    columnOf(L, e, entry);
+    S.clear();
+    entry.alpha.resize(static_cast<Eigen::Index>(L.column.size()));
+    for (std::size_t i = 0; i < L.column.size(); ++i) {
+      S.push_back(L.column[i].first);
+      entry.alpha(static_cast<Eigen::Index>(i)) = L.column[i].second;
+    }
+  } else {
+    entry.alpha = galerkinAlpha(h_, L.j, e, S, L.P, *L.coarse, *L.fine, L.mark);
+  }
+  if (withNorm)
+    entry.scaledNorm2 = scaledNorm2(h_, L.j, e, S, entry.alpha, L.P, *L.fine, L.mark, L.fineMark);
+  if (stats_) ++stats_->localSolves;
+  return entry;
+}
+
+// Edge e's column of alpha^j in L.column, (row, value) with rows ascending.
+void LocalCorrections::columnOf(Level& L, int e, const Entry& entry) {
+  if (fixed_) {
+    const auto [a, b] = h_.parentEdge(L.j, e);
+    fixedColumn(L.conn, a, b, lattice_, L.column);
+    return;
+  }
+  L.column.clear();
+  for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
+    L.column.emplace_back(L.ball.verts[i], entry.alpha(i));
+  std::sort(L.column.begin(), L.column.end());
+}
+
+void checkOptions(const Hierarchy& h, const WaveletOptions& options) {
   const int J = h.levels();
-  std::vector<AlphaMatrix> alphas(J);
-  if (norms) norms->assign(J, Eigen::VectorXd());
   if (options.kind == WaveletKind::Quasi && (options.rings < 0 || options.rings > 8))
     throw Error("rings must be in 0..8, got " + std::to_string(options.rings));
   if (options.kind == WaveletKind::Pre && h.numVertices(J) > kMaxPreWaveletVertices)
     throw Error("pre-wavelets are dense and limited to " + std::to_string(kMaxPreWaveletVertices) +
                 " finest-level vertices; this surface has " + std::to_string(h.numVertices(J)) +
                 " (use quasi-wavelets)");
+}
+
+}  // namespace
+
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+                                            const WaveletOptions& options, const Progress& progress,
+                                            WaveletStats* stats,
+                                            std::vector<Eigen::VectorXd>* norms) {
+  checkOptions(h, options);
+  const int J = h.levels();
+  std::vector<AlphaMatrix> alphas(J);
+  if (norms) norms->assign(J, Eigen::VectorXd());
   const bool fixed = options.kind == WaveletKind::Fixed;
   if (!norms && (fixed || options.kind == WaveletKind::Lazy)) {
     // What a decoder asks for: corrections that need no neighbourhood (none for lazy
@@ -335,112 +500,13 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     if (progress) progress("wavelets", 1.0);
     return alphas;
   }
-  ElementGram elements(scheme);
-  // One local solution per distinct neighbourhood, in ball order, shared by every
-  // level: inner products depend on topology only and scale by 4^-j on both sides
-  // of the Galerkin system. The norm is stored as 4^{j+1} ||psi||^2, also invariant.
-  // (Fixed wavelets' alpha is read off the edge's ends; only its norm is shared.)
-  struct Entry {
-    Eigen::VectorXd alpha;
-    double scaledNorm2 = 0;
-  };
-  std::unordered_map<std::vector<int>, Entry, KeyHash> cache;
-  // Lazy wavelets are quasi-wavelets with an empty S (r = -1); fixed ones reach one
-  // ring.
-  const int r = options.kind == WaveletKind::Lazy ? -1 : fixed ? 1 : options.rings;
-  const LatticeWeights& lattice = scheme == Scheme::Loop ? kLoopLattice : kLinearLattice;
-  // Radius that determines alpha and the norm: r rings of S, plus the reach of the
-  // Gram entries (supports and element types: 3 rings for Loop, 1 for polyhedral)
-  // and of b = P^T I^{j+1} e_m.
-  const int K = r + (scheme == Scheme::Loop ? 4 : 2);
-  std::optional<Entry> regularEntry;
-  // The K-ball of edge {a, b} lies in the (K+1)-balls of a and of b.
-  LatticeBalls latticeBalls(K + 1);
-
+  LocalCorrections local(h, scheme, options, stats);
   for (int j = 0; j < J; ++j) {
-    const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
     if (progress) progress("wavelets", double(j) / J);
-    const SparseMatrix& P = h.refinement(scheme, j);
-    if (options.kind == WaveletKind::Pre) {
-      alphas[j] = preWavelets(h, scheme, j, elements, norms ? &(*norms)[j] : nullptr);
-      continue;
-    }
-    const Connectivity& conn = h.connectivity(j);
-    // Built on the first cache miss only: at fine levels nearly every edge hits.
-    std::optional<LocalGram> coarse, fine;
-    EdgeBall ball(conn);
-    std::vector<int> mark(n, -1), fineMark;
-    // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
-    // encoding it and reuse the regular solution.
-    latticeBalls.advance(h, j);
-    // alpha^j filled column by column in compressed form (rows sorted within each
-    // column), straight into its final storage.
-    AlphaMatrix& alpha = alphas[j];
-    alpha.resize(n, numNew);
-    alpha.reserve(static_cast<Eigen::Index>(numNew) *
-                  (regularEntry ? regularEntry->alpha.size() : 2 * (r + 1) * (r + 2) + 2));
-    std::vector<std::pair<int, double>> column;
-    // The column of edge e, (row, value) with rows ascending.
-    auto columnOf = [&](int e, const Entry& entry) {
-      const auto [a, b] = h.parentEdge(j, e);
-      if (fixed) return fixedColumn(conn, a, b, lattice, column);
-      column.clear();
-      for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
-        column.emplace_back(ball.verts[i], entry.alpha(i));
-      std::sort(column.begin(), column.end());
-    };
-    auto solve = [&](int e) {
-      if (!coarse) {
-        coarse.emplace(conn, j, elements);
-        fine.emplace(h.connectivity(j + 1), j + 1, elements);
-        fineMark.assign(h.numVertices(j + 1), -1);
-      }
-      Entry entry;
-      std::vector<int> S(ball.verts.begin(), ball.verts.begin() + ball.within(r));
-      if (fixed) {
-        columnOf(e, entry);
-        S.clear();
-        entry.alpha.resize(static_cast<Eigen::Index>(column.size()));
-        for (std::size_t i = 0; i < column.size(); ++i) {
-          S.push_back(column[i].first);
-          entry.alpha(static_cast<Eigen::Index>(i)) = column[i].second;
-        }
-      } else {
-        entry.alpha = galerkinAlpha(h, j, e, S, P, *coarse, *fine, mark);
-      }
-      if (norms) entry.scaledNorm2 = scaledNorm2(h, j, e, S, entry.alpha, P, *fine, mark, fineMark);
-      if (stats) ++stats->localSolves;
-      return entry;
-    };
-    Eigen::VectorXd levelNorms(norms ? numNew : 0);
-    const double normScale = std::ldexp(1.0, -2 * (j + 1));
-    for (int e = 0; e < numNew; ++e) {
-      const auto [a, b] = h.parentEdge(j, e);
-      const bool regular = latticeBalls(a) && latticeBalls(b);
-      const Entry* entry = nullptr;
-      if (regular && regularEntry) {
-        ball.build(a, b, std::max(r, 0), false);
-        if (stats) ++stats->reused;
-        entry = &*regularEntry;
-      } else {
-        ball.build(a, b, K);
-        auto it = cache.find(ball.key);
-        if (it == cache.end())
-          it = cache.emplace(ball.key, solve(e)).first;
-        else if (stats)
-          ++stats->reused;
-        entry = &it->second;
-        if (regular) regularEntry = *entry;
-      }
-      columnOf(e, *entry);
-      alpha.startVec(e);
-      for (auto [row, value] : column) alpha.insertBack(row, e) = value;
-      if (norms) levelNorms(e) = std::sqrt(entry->scaledNorm2 * normScale);
-      ball.clear();
-    }
-    alpha.finalize();
-    alpha.makeCompressed();
-    if (norms) (*norms)[j] = std::move(levelNorms);
+    Eigen::VectorXd* levelNorms = norms ? &(*norms)[j] : nullptr;
+    alphas[j] = options.kind == WaveletKind::Pre
+                    ? preWavelets(h, scheme, j, local.elements(), levelNorms)
+                    : local.level(j, levelNorms);
   }
   if (progress) progress("wavelets", 1.0);
   return alphas;
