@@ -6,10 +6,8 @@
 // names replaced by this tool's flags.
 #include <iostream>
 #include <new>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
+#include "allocator.h"
 #include "args.h"
 #include "commands.h"
 #include "osdmra/base/error.h"
@@ -148,25 +146,8 @@ int dispatch(int argc, char** argv) {
 }  // namespace
 }  // namespace osdmra::cli
 
-namespace {
-
-// glibc hands blocks over 128 KiB to mmap and returns them to the system when freed,
-// so every large temporary (a level's arrays, a sparse matrix) is faulted in again
-// page by page; on a virtual machine a fault costs tens of microseconds, and the
-// decoding of a 153,602-vertex stream spent more time faulting than computing (33,000
-// faults, 0.59 s; 17,900 and 0.37 s with freed memory kept). The command line keeps
-// freed memory for reuse; the library leaves its host's allocator alone.
-void keepFreedMemory() {
-#if defined(__GLIBC__)
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest threshold
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-#endif
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  keepFreedMemory();
+  osdmra::cli::keepFreedMemory();
   try {
     return osdmra::cli::dispatch(argc, argv);
   } catch (const osdmra::Error& e) {

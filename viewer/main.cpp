@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "allocator.h"
 #include "args.h"
 #include "headless.h"
 #include "interactive.h"
@@ -21,6 +22,7 @@
 #include "osdmra/base/error.h"
 
 int main(int argc, char** argv) {
+  osdmra::cli::keepFreedMemory();
   try {
     viewer::Options o = viewer::parseOptions(std::vector<std::string>(argv + 1, argv + argc));
     if (o.help) {
