@@ -267,6 +267,7 @@ int cmdOrthogonality(const Argv& argv) {
   std::vector<std::pair<std::string, WaveletOptions>> kinds = {{"lazy", {WaveletKind::Lazy, 0}}};
   for (int r = 0; r <= maxRings; ++r)
     kinds.push_back({"quasi r=" + std::to_string(r), {WaveletKind::Quasi, r}});
+  kinds.push_back({"fixed", {WaveletKind::Fixed, 0}});
   if (h.numVertices(j + 1) <= kMaxPreWaveletVertices)
     kinds.push_back({"pre", {WaveletKind::Pre, 0}});
   Json rows = Json::array();

@@ -66,8 +66,8 @@ commands:
                                subdivision and inner-product masks around a vertex
                                of level j over the base mesh IN (paper, Fig. 4, 5)
   orthogonality BASE --level j [--scheme S] [--max-rings R]
-                               how close lazy, quasi (r = 0..R) and pre-wavelets of
-                               level j over BASE are to orthogonal
+                               how close lazy, quasi (r = 0..R), fixed and pre-wavelets
+                               of level j over BASE are to orthogonal
   shape NAME -o OUT            write a built-in base mesh (tetrahedron, octahedron,
                                icosahedron, torus, genus2, genus3, disc, cylinder,
                                valences)
