@@ -10,8 +10,8 @@
 namespace osdmra::remeshing {
 
 const std::vector<StageLimits> kStages = {
-    {2, 15, 1.5},   {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},          {8, 10, 1.5},
-    {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875}, {24, 5, 1.875, false},
+    {2, 15, 1.5}, {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},
+    {8, 10, 1.5}, {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875},
 };
 
 namespace {
@@ -278,88 +278,9 @@ bool Simplifier::placePoints(int v, Plan& p) {
   return true;
 }
 
-// Where a corner of an input triangle lies after the plan: a vertex of the mesh, or a
-// face (its three vertices) and barycentric coordinates in it.
-struct Placed {
-  bool isVertex;
-  int vertex;
-  std::array<int, 3> face;
-  std::array<double, 3> bary;
-};
-
-// Whether one face holds all three corners.
-bool insideOneFace(const std::array<Placed, 3>& at) {
-  const Placed* face = nullptr;
-  for (const Placed& c : at)
-    if (!c.isVertex) {
-      if (face && face->face != c.face) return false;
-      face = &c;
-    }
-  if (!face) return false;
-  for (const Placed& c : at)
-    if (c.isVertex && std::count(face->face.begin(), face->face.end(), c.vertex) != 1) return false;
-  return true;
-}
-
-// The corners' images in one chart: the faces holding them laid flat from the first,
-// each next one hinged to one already laid about the edge they share; where their own
-// faces do not chain so, through the faces around a vertex they all share (given by
-// `facesAround`). A triangle straddling an edge or a vertex of the faces is bent there
-// in the parameterisation; unfolded, its image is what the grid samples. False when the
-// corners' faces have no such chart (the triangle is then left unchecked), or a corner
-// that is a vertex of the mesh is not a vertex of one of them.
-template <typename FacesAround>
-bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
-                std::array<Vec2, 3>& image) {
-  std::vector<std::array<int, 3>> candidates;
-  for (const Placed& c : at)
-    if (!c.isVertex && std::find(candidates.begin(), candidates.end(), c.face) == candidates.end())
-      candidates.push_back(c.face);
-  const std::size_t required = candidates.size();
-  if (required == 0) return false;
-  auto inFace = [](int v, const std::array<int, 3>& f) {
-    return std::count(f.begin(), f.end(), v) == 1;
-  };
-  for (const Placed& c : at)
-    if (c.isVertex && std::none_of(candidates.begin(), candidates.end(),
-                                   [&](const auto& f) { return inFace(c.vertex, f); }))
-      return false;
-  std::vector<Laid> laid;
-  auto layFrom = [&] {
-    std::vector<std::size_t> index;
-    laid = layBreadthFirst(V, candidates, required, index);
-    return static_cast<std::size_t>(std::count_if(index.begin(), index.end(), [&](std::size_t q) {
-             return q < required;
-           })) == required;
-  };
-  if (!layFrom()) {
-    int common = -1;
-    for (int w : candidates[0])
-      if (std::all_of(candidates.begin(), candidates.begin() + required,
-                      [&](const auto& f) { return inFace(w, f); }))
-        common = w;
-    if (common < 0) return false;
-    for (const auto& f : facesAround(common))
-      if (std::find(candidates.begin(), candidates.end(), f) == candidates.end())
-        candidates.push_back(f);
-    if (!layFrom()) return false;
-  }
-  for (int k = 0; k < 3; ++k) {
-    const Placed& c = at[k];
-    if (c.isVertex) {
-      vertexIn(laid, c.vertex, image[k]);
-      continue;
-    }
-    image[k] = pointIn(
-        *std::find_if(laid.begin(), laid.end(), [&](const Laid& l) { return l.face == c.face; }),
-        c.bary);
-  }
-  return true;
-}
-
 // The largest anisotropy of the input triangles with a corner among the moved points,
 // each mapped onto the faces that hold its corners, laid flat (chartImage; infinite once
-// over the stage's bound).
+// over the stage's bound, or for a triangle with no chart: none is left unchecked).
 double Simplifier::distortion(const Plan& p) {
   auto newFace = [&](int q) -> std::array<int, 3> {
     const auto& t = p.triangles[q];
@@ -392,9 +313,8 @@ double Simplifier::distortion(const Plan& p) {
       checkedStamp_[t] = plans_;
       const std::array<Placed, 3> at = {place(inputF_(t, 0)), place(inputF_(t, 1)),
                                         place(inputF_(t, 2))};
-      if (!limits().straddlers && !insideOneFace(at)) continue;
       std::array<Vec2, 3> image;
-      if (!chartImage(V_, at, facesAround, image)) continue;
+      if (!chartImage(V_, at, facesAround, image)) return std::numeric_limits<double>::infinity();
       std::array<Vec3, 3> corners;
       for (int c = 0; c < 3; ++c) corners[c] = V_.row(inputF_(t, c)).transpose();
       const double a = anisotropy(corners, image);
