@@ -174,14 +174,9 @@ int main(int argc, char** argv) try {
   options.norms = false;
   options.scheme = parseScheme(args.get("scheme", "loop"));
   // The default of `osdmra compress`: fixed wavelets.
-  const std::string w = args.get("wavelets", "fixed");
-  if (w != "lazy" && w != "quasi" && w != "fixed")
-    throw Error("--wavelets must be lazy, quasi or fixed, got '" + w + "'");
-  options.wavelets.kind = w == "lazy"    ? WaveletKind::Lazy
-                          : w == "quasi" ? WaveletKind::Quasi
-                                         : WaveletKind::Fixed;
+  options.wavelets.kind = parseWaveletKind(args.get("wavelets", "fixed"));
   options.wavelets.rings = static_cast<int>(args.integer("rings", options.wavelets.rings, 0, 8));
-  if (w != "quasi") options.wavelets.rings = 0;
+  if (options.wavelets.kind != WaveletKind::Quasi) options.wavelets.rings = 0;
   CodecOptions codec;
   codec.tangentWeight = args.real("tangent-weight", codec.tangentWeight, 1e-3, 1);
   codec.levelGain = args.real("level-gain", codec.levelGain, 1, 4);

@@ -7,7 +7,7 @@
 //       -- build-bench/bench/osdmra_profile analyze 9 loop quasi 1 5   (one line)
 //
 // usage: osdmra_profile hierarchy|precompute|analyze|synthesize|levels J [loop|linear]
-//                       [lazy|quasi] [rings] [repetitions]
+//                       [lazy|quasi|fixed] [rings] [repetitions]
 // Prints the wall time of every repetition. Without PERF_CTL_FIFO it only times.
 // `levels` breaks a Loop analysis down by level instead: the time of the P_old solve
 // (solveOldBlock) and of the whole analysisStep, the fastest over the repetitions,
@@ -106,17 +106,16 @@ int run(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
                  "usage: osdmra_profile hierarchy|precompute|analyze|synthesize|levels J "
-                 "[loop|linear] [lazy|quasi] [rings] [repetitions]\n");
+                 "[loop|linear] [lazy|quasi|fixed] [rings] [repetitions]\n");
     return 2;
   }
   const std::string op = argv[1];
   const int J = std::atoi(argv[2]);
   const Scheme scheme = parseScheme(argc > 3 ? argv[3] : "loop");
   WaveletOptions w;
-  const std::string kind = argc > 4 ? argv[4] : "quasi";
-  w.kind = kind == "lazy" ? WaveletKind::Lazy : WaveletKind::Quasi;
+  w.kind = parseWaveletKind(argc > 4 ? argv[4] : "quasi");
   w.rings = argc > 5 ? std::atoi(argv[5]) : 1;
-  if (w.kind == WaveletKind::Lazy) w.rings = 0;
+  if (w.kind != WaveletKind::Quasi) w.rings = 0;
   const int reps = argc > 6 ? std::atoi(argv[6]) : 3;
 
   const TriMesh base = shapes::octahedron();

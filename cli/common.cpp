@@ -31,17 +31,7 @@ std::set<std::string> flags(std::set<std::string> extra) {
 
 WaveletOptions waveletOptions(const Args& args) {
   WaveletOptions w;
-  const std::string kind = args.get("wavelets", "quasi");
-  if (kind == "lazy")
-    w.kind = WaveletKind::Lazy;
-  else if (kind == "quasi")
-    w.kind = WaveletKind::Quasi;
-  else if (kind == "pre")
-    w.kind = WaveletKind::Pre;
-  else if (kind == "fixed")
-    w.kind = WaveletKind::Fixed;
-  else
-    throw Error("--wavelets must be lazy, quasi, pre or fixed, got '" + kind + "'");
+  w.kind = parseWaveletKind(args.get("wavelets", "quasi"));
   w.rings = static_cast<int>(args.integer("rings", kDefaultRings, 0, 8));
   if (w.kind != WaveletKind::Quasi) w.rings = 0;
   return w;

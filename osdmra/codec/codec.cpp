@@ -9,7 +9,6 @@
 #include "osdmra/codec/range_coder.h"
 #include "osdmra/codec/zerotree.h"
 #include "osdmra/geometry/distance.h"
-#include "osdmra/mra/wavelets.h"
 
 namespace osdmra {
 
@@ -319,11 +318,7 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   validate(base, name + ": base mesh");
   const Hierarchy hier(base.F, h.baseVertices, h.levels, h.scheme);
   // The bank without the wavelet norms: synthesis needs only alpha.
-  FilterBank bank;
-  bank.scheme = h.scheme;
-  bank.wavelets = h.wavelets;
-  bank.hierarchy = &hier;
-  bank.alpha = waveletCorrections(hier, h.scheme, h.wavelets);
+  const FilterBank bank = makeFilterBank(hier, h.scheme, h.wavelets, {}, false);
   ZerotreeState state;
   Decompressed out;
   out.mesh.V =

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "osdmra/mesh/mesh.h"
@@ -24,6 +25,8 @@ enum class WaveletKind : std::uint8_t {
   Fixed = 3,
 };
 const char* waveletKindName(WaveletKind k);
+/// Parses "lazy", "quasi", "pre" or "fixed"; throws Error otherwise.
+WaveletKind parseWaveletKind(const std::string& name);
 
 /// Options of the wavelet construction.
 struct WaveletOptions {

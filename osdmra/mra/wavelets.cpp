@@ -28,6 +28,13 @@ const char* waveletKindName(WaveletKind k) {
   return "?";
 }
 
+WaveletKind parseWaveletKind(const std::string& name) {
+  for (WaveletKind k :
+       {WaveletKind::Lazy, WaveletKind::Quasi, WaveletKind::Pre, WaveletKind::Fixed})
+    if (name == waveletKindName(k)) return k;
+  throw Error("unknown wavelets '" + name + "' (expected lazy, quasi, pre or fixed)");
+}
+
 namespace {
 
 // Breadth-first ball of radius K around the oriented edge (a, b), with a canonical

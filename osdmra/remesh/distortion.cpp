@@ -93,4 +93,56 @@ bool vertexIn(const std::vector<Laid>& laid, int v, Vec2& at) {
   return false;
 }
 
+bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
+                std::array<Vec2, 3>& image) {
+  auto inFace = [](int v, const std::array<int, 3>& f) {
+    return std::count(f.begin(), f.end(), v) == 1;
+  };
+  std::vector<std::array<int, 3>> faces;  // the corners' first, then the ones around
+  auto add = [&](const std::array<int, 3>& f) {
+    if (std::find(faces.begin(), faces.end(), f) == faces.end()) faces.push_back(f);
+  };
+  for (const Placed& c : at)
+    if (!c.isVertex) add(c.face);
+  for (const Placed& c : at)
+    if (c.isVertex && std::none_of(faces.begin(), faces.end(),
+                                   [&](const auto& f) { return inFace(c.vertex, f); }))
+      add(facesAround(c.vertex).front());
+  const std::size_t required = faces.size();
+  std::vector<Laid> laid;
+  auto layFrom = [&] {
+    std::vector<std::size_t> index;
+    laid = layBreadthFirst(V, faces, required, index);
+    return static_cast<std::size_t>(std::count_if(index.begin(), index.end(), [&](std::size_t q) {
+             return q < required;
+           })) == required;
+  };
+  if (!layFrom()) {
+    int common = -1;
+    for (int w : faces[0])
+      if (std::all_of(faces.begin(), faces.begin() + required,
+                      [&](const auto& f) { return inFace(w, f); }))
+        common = w;
+    if (common >= 0)
+      for (const auto& f : facesAround(common)) add(f);
+    if (common < 0 || !layFrom()) {
+      for (std::size_t q = 0; q < required; ++q)
+        for (int w : std::array<int, 3>(faces[q]))  // a copy: add() grows `faces`
+          for (const auto& f : facesAround(w)) add(f);
+      if (!layFrom()) return false;
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    const Placed& c = at[k];
+    if (c.isVertex) {
+      vertexIn(laid, c.vertex, image[k]);
+      continue;
+    }
+    image[k] = pointIn(
+        *std::find_if(laid.begin(), laid.end(), [&](const Laid& l) { return l.face == c.face; }),
+        c.bary);
+  }
+  return true;
+}
+
 }  // namespace osdmra::remeshing

@@ -295,7 +295,7 @@ double Simplifier::distortion(const Plan& p) {
     return {false, -1, faces_[param_[x].face], param_[x].bary};
   };
   // The faces around vertex w once the plan is made: the new ones and the others.
-  auto facesAround = [&](int w) {
+  const FacesAround facesAround = [&](int w) {
     std::vector<std::array<int, 3>> out;
     for (int f : vertFaces_[w])
       if (std::find(p.ring.faces.begin(), p.ring.faces.end(), f) == p.ring.faces.end())

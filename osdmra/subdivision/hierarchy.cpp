@@ -40,33 +40,18 @@ void farWarningCallback(const char*) {}
 std::once_flag callbackOnce;
 
 // A primvar that records (row, column, weight) instead of adding values: driving
-// PrimvarRefiner with it yields the refinement matrix itself.
+// PrimvarRefiner with it yields the refinement matrix (or the limit stencils) itself.
 struct Source {
   int index;
-};
-struct Collector {
-  std::vector<Eigen::Triplet<double>>* out;
-  int row;
-  void Clear() {}
-  void AddWithWeight(const Source& s, double w) { out->emplace_back(row, s.index, w); }
-  // Only reached for schemes with face-centre vertices (never for Loop on triangles),
-  // which PrimvarRefiner instantiates regardless.
-  void AddWithWeight(const Collector&, double) {
-    throw Error("internal: unexpected face-vertex interpolation in a Loop refinement");
-  }
-};
-struct CollectorArray {
-  std::vector<Eigen::Triplet<double>>* out;
-  Collector operator[](int i) const { return Collector{out, i}; }
 };
 struct SourceArray {
   Source operator[](int i) const { return Source{i}; }
 };
 
-// The refinement's rows as PrimvarRefiner writes them: each row one run of entries
-// after a Clear(). Copied straight into compressed rows, this takes half the time
-// and memory of triplets, which setFromTriplets sorts into a column-major temporary
-// and converts (P's rows are the finest level's vertices).
+// The rows as PrimvarRefiner writes them: each row one run of entries after a
+// Clear(). Copied straight into compressed rows, this takes half the time and memory
+// of triplets, which setFromTriplets sorts into a column-major temporary and converts
+// (P's rows are the finest level's vertices).
 struct Runs {
   std::vector<int> row, start, col;  // per run: row, first entry; per entry: column
   std::vector<double> weight;
@@ -82,6 +67,8 @@ struct RunWriter {
     runs->col.push_back(s.index);
     runs->weight.push_back(w);
   }
+  // Only reached for schemes with face-centre vertices (never for Loop on triangles),
+  // which PrimvarRefiner instantiates regardless.
   void AddWithWeight(const RunWriter&, double) {
     throw Error("internal: unexpected face-vertex interpolation in a Loop refinement");
   }
@@ -92,7 +79,7 @@ struct RunWriterArray {
 };
 
 // The compressed row-major matrix of `runs`, each row's entries sorted by column and
-// repeated columns summed.
+// repeated columns summed in the order they came (as setFromTriplets sums them).
 SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
   const int count = static_cast<int>(runs.row.size()), total = static_cast<int>(runs.col.size());
   const auto end = [&](int b) { return b + 1 < count ? runs.start[b + 1] : total; };
@@ -117,7 +104,8 @@ SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
     row.clear();
     for (int k = outer[r]; k < outer[r + 1]; ++k)
       row.emplace_back(P.innerIndexPtr()[k], P.valuePtr()[k]);
-    std::sort(row.begin(), row.end());
+    std::stable_sort(row.begin(), row.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
     outer[r] = nnz;
     for (std::size_t k = 0; k < row.size(); ++k) {
       if (k > 0 && row[k].first == row[k - 1].first) {
@@ -302,20 +290,15 @@ Hierarchy::LimitStencils Hierarchy::limitStencils(int level) const {
   // Limit() needs, and the limit masks depend on the local topology alone.
   const std::unique_ptr<Far::TopologyRefiner> refiner =
       createLoopRefiner(faces(level), n, "level " + std::to_string(level));
-  std::vector<Eigen::Triplet<double>> tp, t1, t2;
-  tp.reserve(static_cast<std::size_t>(n) * 7);
-  t1.reserve(static_cast<std::size_t>(n) * 7);
-  t2.reserve(static_cast<std::size_t>(n) * 7);
+  Runs position, tangent1, tangent2;
   SourceArray src;
-  CollectorArray dp{&tp}, d1{&t1}, d2{&t2};
+  RunWriterArray dp{&position}, d1{&tangent1}, d2{&tangent2};
   Far::PrimvarRefinerReal<double>(*refiner).Limit(src, dp, d1, d2);
   if (!lastFarError.empty()) throw Error("OpenSubdiv limit evaluation failed: " + lastFarError);
   LimitStencils s;
-  for (auto [m, t] : {std::pair{&s.position, &tp}, {&s.tangent1, &t1}, {&s.tangent2, &t2}}) {
-    m->resize(n, n);
-    m->setFromTriplets(t->begin(), t->end());
-    m->makeCompressed();
-  }
+  s.position = fromRuns(n, n, position);
+  s.tangent1 = fromRuns(n, n, tangent1);
+  s.tangent2 = fromRuns(n, n, tangent2);
   return s;
 }
 
