@@ -132,8 +132,11 @@ SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
   for (int step = 0; step < 16; ++step) {
     std::array<Vec2, 3> image;
     if (!imageIn(f, t, image)) return from;
-    if (!(cross2(image[1] - image[0], image[2] - image[0]) > 0)) return from;
-    const std::array<double, 3> l = barycentric(at, image[0], image[1], image[2]);
+    const double area = cross2(image[1] - image[0], image[2] - image[0]);
+    if (!(area > 0)) return from;
+    std::array<double, 3> l;
+    for (int k = 0; k < 3; ++k)
+      l[k] = cross2(image[(k + 2) % 3] - image[(k + 1) % 3], at - image[(k + 1) % 3]) / area;
     const int worst = static_cast<int>(std::min_element(l.begin(), l.end()) - l.begin());
     if (l[worst] >= -1e-12) return {t, clampedBarycentric(l)};
     // Across the edge facing the most negative coordinate.
