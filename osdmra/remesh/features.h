@@ -17,8 +17,9 @@ struct Features {
   /// in chains of at least kMinChain edges or closed loops, folds excluded.
   std::unordered_set<std::uint64_t> edges;
   std::vector<std::array<int, 2>> list;  ///< the same edges as vertex pairs
-  /// Vertices where a feature line or a boundary turns by more than kMaxTurn: they
-  /// stay in the base mesh, else a base edge would cut the corner.
+  /// Vertices where a feature line or a boundary turns by more than kMaxTurn (a
+  /// boundary: at the scale of detectFeatures' span, one per bend): they stay in the
+  /// base mesh, else a base edge would cut the corner.
   std::vector<char> corner;
   /// Corners of fold triangles (facing against their own corners' area-weighted
   /// normals: a sliver turned over onto its neighbour). Noise: removed first.
@@ -30,8 +31,12 @@ constexpr int kMinChain = 4;
 /// Largest turn of a feature line or a boundary at a removable vertex, in degrees.
 constexpr double kMaxTurn = 40.0;
 
-/// The features of a valid mesh at `featureAngle` degrees (180: none).
-Features detectFeatures(const TriMesh& mesh, double featureAngle);
+/// The features of a valid mesh at `featureAngle` degrees (180: none). A boundary's
+/// turn at a vertex is measured between the points `boundarySpan` away along it on
+/// either side (two edges at least), and only the vertex turning most within that reach
+/// is a corner: bends finer than that are not (remesh() passes half the edge of a base
+/// face of the size asked for, which could not follow them anyway).
+Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundarySpan = 0);
 
 /// The vertices of a line (`along[v]`: v's neighbours on it) from `from` through
 /// `next`, on through vertices with exactly two neighbours, up to one that `stops`,

@@ -1,8 +1,10 @@
 #include "osdmra/remesh/remesh.h"
 
+#include <cmath>
 #include <string>
 
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/cleanup.h"
@@ -33,13 +35,21 @@ void checkInput(const TriMesh& input, const RemeshOptions& options) {
                 ", too large for its areas to be computed (at most 1e150)");
 }
 
+// The edge of an equilateral base face when `baseFaces` of them cover the input.
+double baseEdgeLength(const TriMesh& input, int baseFaces) {
+  double area = 0;
+  for (Eigen::Index f = 0; f < input.F.rows(); ++f) area += 0.5 * faceNormal(input, f).norm();
+  return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
+}
+
 }  // namespace
 
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
   using namespace remeshing;
   checkInput(input, options);
   Remeshing out;
-  const Features features = detectFeatures(input, options.featureAngle);
+  const Features features =
+      detectFeatures(input, options.featureAngle, 0.5 * baseEdgeLength(input, options.baseFaces));
   out.featureEdges = static_cast<int>(features.list.size());
 
   Simplification s = simplify(input, features, options.baseFaces, progress);

@@ -1,0 +1,60 @@
+// What the simplification must keep (features.h): the corners of a boundary are found
+// at the scale asked for, one per bend, so that the ragged edge of a scan's hole does not
+// pin base vertices while the corners of a plate stay.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "osdmra/remesh/features.h"
+
+using namespace osdmra;
+using namespace osdmra::remeshing;
+
+namespace {
+
+// A flat n x n plate of unit cells, two triangles each, whose side y = 0 carries a
+// spike of height 1 (in the plate's plane, outwards) at every x = 3 mod 6: a bend of
+// two edges, as a scan's hole is ragged.
+TriMesh raggedPlate(int n) {
+  TriMesh m;
+  m.V.resize((n + 1) * (n + 1), 3);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double y = (j == 0 && i % 6 == 3) ? -1.0 : j;
+      m.V.row(j * (n + 1) + i) << i, y, 0;
+    }
+  m.F.resize(2 * n * n, 3);
+  int f = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      m.F.row(f++) << a, b, d;
+      m.F.row(f++) << a, d, c;
+    }
+  return m;
+}
+
+std::vector<int> cornersOf(const Features& features) {
+  std::vector<int> out;
+  for (int v = 0; v < static_cast<int>(features.corner.size()); ++v)
+    if (features.corner[v]) out.push_back(v);
+  return out;
+}
+
+}  // namespace
+
+TEST(Features, BoundaryCornersAreFoundAtTheSpanAskedFor) {
+  const int n = 24;
+  const TriMesh plate = raggedPlate(n);
+  const std::vector<int> plateCorners = {0, n, n * (n + 1), n * (n + 1) + n};
+  // Two edges each way (span 0): each spike's tip turns by 2 atan(1/2) = 53 degrees,
+  // more than kMaxTurn, and is a corner beside the plate's four.
+  const std::vector<int> fine = cornersOf(detectFeatures(plate, 70.0, 0.0));
+  EXPECT_EQ(fine.size(), plateCorners.size() + 4);
+  for (int v : plateCorners) EXPECT_EQ(std::count(fine.begin(), fine.end(), v), 1) << v;
+  // Four units each way: a spike turns by 2 atan(1/4) = 28 degrees and is no corner;
+  // a plate corner turns by 90 degrees, and its neighbours, which see it within their
+  // reach and turn less, are not corners as well.
+  EXPECT_EQ(cornersOf(detectFeatures(plate, 70.0, 4.0)), plateCorners);
+}
