@@ -130,6 +130,11 @@ int cmdRemesh(const Argv& argv) {
   }
   if (r.droppedVertices > 0)
     std::printf("%s: dropped %d unreferenced vertices\n", in.c_str(), r.droppedVertices);
+  if (r.welding.vertices > 0)
+    std::printf(
+        "%s: welded %d boundary vertices onto others at the same position (%d faces "
+        "left with a repeated corner dropped)\n",
+        in.c_str(), r.welding.vertices, r.welding.faces);
   printRemesh(in, r);
   std::printf("wrote %s\n", out.c_str());
   return 0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/io.h"
 
 namespace osdmra {
@@ -36,9 +37,12 @@ std::vector<std::string> remeshWarnings(const RemeshReport& r) {
   if (x.flippedTriangles + x.degenerateTriangles > 0 || x.selfIntersections > 0)
     out.push_back(std::to_string(x.flippedTriangles) + " flipped, " +
                   std::to_string(x.degenerateTriangles) + " zero-area triangles and " +
-                  std::to_string(x.selfIntersections) +
-                  " crossing pairs are left; another RemeshOptions::baseFaces or "
-                  "RemeshOptions::levels may avoid them");
+                  std::to_string(x.selfIntersections) + " crossing pairs are left" +
+                  (r.inputSelfIntersections > 0
+                       ? " (the input itself has " + std::to_string(r.inputSelfIntersections) +
+                             " crossing pairs)"
+                       : std::string()) +
+                  "; another RemeshOptions::baseFaces or RemeshOptions::levels may avoid them");
   const int baseFaces = static_cast<int>(x.base.F.rows());
   if (baseFaces > r.requestedBaseFaces)
     out.push_back("the base has " + std::to_string(baseFaces) + " faces, more than the " +
@@ -73,6 +77,8 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
   r.seconds = secondsSince(t0);
   report(progress, "measuring the remeshing", 0);
   r.distance = surfaceDistance(r.result.mesh, input, options.distance);
+  if (r.result.selfIntersections > 0)
+    r.inputSelfIntersections = findSelfIntersections(input, 0).count;
   r.warnings = remeshWarnings(r);
   return r;
 }
@@ -88,9 +94,17 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
   } else {
     TriMesh input = readMesh(path);
     const int dropped = removeUnreferencedVertices(input);
+    const Welding welding = weldBoundaryVertices(input);
+    const int split = splitNonManifoldVertices(input);
     validate(input, path);
     s.remeshing = remeshMeasured(input, path, options, progress);
     s.remeshing->droppedVertices = dropped;
+    s.remeshing->welding = welding;
+    s.remeshing->splitVertices = split;
+    if (!welding.refused.empty())
+      s.remeshing->warnings.push_back(
+          "boundary vertices at the same position were left apart: welding them fails (" +
+          welding.refused + ")");
     s.mesh = s.remeshing->result.mesh;
   }
   s.seconds = secondsSince(t0);

@@ -45,12 +45,22 @@ struct InputOptions {
 
 /// A remeshing and what it cost, reported apart from any truncation error.
 struct RemeshReport {
-  int inputVertices = 0, inputFaces = 0;  ///< after dropping unreferenced vertices
+  int inputVertices = 0, inputFaces = 0;  ///< after dropping and welding vertices
   int droppedVertices = 0;                ///< unreferenced input vertices dropped
+  /// Coincident boundary vertices merged first (weldBoundaryVertices: a triangle soup,
+  /// a mesh split along texture seams).
+  Welding welding;
+  /// Copies made of pinched ("bowtie") vertices, one per fan after the first
+  /// (splitNonManifoldVertices).
+  int splitVertices = 0;
   int requestedBaseFaces = 0;
   Remeshing result;
   SurfaceDistance distance;  ///< between result.mesh and the input (the reference)
-  double seconds = 0;        ///< remesh() alone
+  /// Crossing pairs of the input itself (findSelfIntersections), counted only when the
+  /// result has some (-1 otherwise): a surface that crosses itself, or touches itself
+  /// at a split pinch, cannot be remeshed without.
+  long long inputSelfIntersections = -1;
+  double seconds = 0;  ///< remesh() alone
   /// What a user should know before relying on the result: defects left, a base
   /// larger than asked, a result far from the input somewhere. Advice names the
   /// RemeshOptions fields (front ends map them to their own option names).
@@ -66,7 +76,8 @@ struct LoadedSurface {
 };
 
 /// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
-/// drops unreferenced vertices, validates and remeshes it. Throws Error naming the
+/// drops unreferenced vertices, welds coincident boundary vertices, splits pinched
+/// vertices, validates and remeshes it. Throws Error naming the
 /// file and what is wrong.
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});

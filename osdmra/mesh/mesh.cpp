@@ -127,12 +127,10 @@ std::string flippedFaceMessage(const Connectivity& conn, int f) {
   return faceText(F, f) + " is oriented inconsistently";  // not reached
 }
 
-std::string nonManifoldVertexMessage(const Faces& F, int v) {
-  // v's faces, grouped into fans: two faces are in one fan if they share an edge
-  // at v. A manifold vertex has exactly one fan.
-  std::vector<int> faces;
-  for (int f = 0; f < F.rows(); ++f)
-    if (F(f, 0) == v || F(f, 1) == v || F(f, 2) == v) faces.push_back(f);
+// `faces` (all of v's) grouped into fans: two faces are in one fan if they share an
+// edge at v. A manifold vertex has exactly one fan. Fans in the order of their first
+// face in `faces`, each in that order too.
+std::vector<std::vector<int>> fansAround(const Faces& F, const std::vector<int>& faces, int v) {
   std::vector<int> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0);
   const auto find = [&](int x) {
@@ -147,11 +145,31 @@ std::string nonManifoldVertexMessage(const Faces& F, int v) {
       if (F(faces[i], a) != v) byNeighbour.emplace_back(F(faces[i], a), static_cast<int>(i));
   std::sort(byNeighbour.begin(), byNeighbour.end());
   for (std::size_t k = 1; k < byNeighbour.size(); ++k)
-    if (byNeighbour[k].first == byNeighbour[k - 1].first)
-      parent[find(byNeighbour[k].second)] = find(byNeighbour[k - 1].second);
+    if (byNeighbour[k].first == byNeighbour[k - 1].first) {
+      // The earlier face stays the root, so fans come out in the order of `faces`.
+      const int a = find(byNeighbour[k].second), b = find(byNeighbour[k - 1].second);
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<std::vector<int>> fans;
+  std::vector<int> fanOf(faces.size(), -1);
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const int root = find(static_cast<int>(i));
+    if (fanOf[root] < 0) {
+      fanOf[root] = static_cast<int>(fans.size());
+      fans.emplace_back();
+    }
+    fans[fanOf[root]].push_back(faces[i]);
+  }
+  return fans;
+}
+
+std::string nonManifoldVertexMessage(const Faces& F, int v) {
+  std::vector<int> faces;
+  for (int f = 0; f < F.rows(); ++f)
+    if (F(f, 0) == v || F(f, 1) == v || F(f, 2) == v) faces.push_back(f);
+  const std::vector<std::vector<int>> fans = fansAround(F, faces, v);
   std::vector<int> fanFace;  // one face per fan
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    if (find(static_cast<int>(i)) == static_cast<int>(i)) fanFace.push_back(faces[i]);
+  for (const std::vector<int>& fan : fans) fanFace.push_back(fan.front());
   std::string message = "vertex " + str(v) + " is non-manifold: ";
   if (fanFace.size() >= 2) {
     message += "its " + str(static_cast<long long>(faces.size())) + " faces form " +
@@ -242,6 +260,127 @@ int removeUnreferencedVertices(TriMesh& mesh) {
   mesh.V = std::move(V);
   mesh.N = std::move(N);
   return static_cast<int>(n - kept);
+}
+
+namespace {
+
+// Every index in range and no repeated corner: what Connectivity needs.
+bool wellFormed(const TriMesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows();
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
+      if (v < 0 || v >= nv || v == w) return false;
+    }
+  return true;
+}
+
+// Boundary vertices with a finite position, grouped by exact position (-0 and +0 the
+// same): each group's vertices in increasing order. Empty when the faces are not
+// well-formed (an index out of range or a repeated corner).
+std::vector<std::vector<int>> coincidentBoundaryVertices(const TriMesh& mesh) {
+  if (!wellFormed(mesh)) return {};
+  const int nv = static_cast<int>(mesh.V.rows());
+  const Connectivity conn(mesh.F, nv);
+  std::vector<int> open;
+  std::vector<char> isOpen(static_cast<std::size_t>(nv), 0);
+  for (int h = 0; h < 3 * conn.numFaces(); ++h)
+    if (conn.twin(h) < 0)
+      for (int v : {conn.from(h), conn.to(h)})
+        if (!isOpen[v] && mesh.V.row(v).allFinite()) {
+          isOpen[v] = 1;
+          open.push_back(v);
+        }
+  auto key = [&](int v) {
+    // + 0.0 turns -0 into +0, so that the two compare equal in the tuple.
+    return std::array<double, 3>{mesh.V(v, 0) + 0.0, mesh.V(v, 1) + 0.0, mesh.V(v, 2) + 0.0};
+  };
+  std::sort(open.begin(), open.end(),
+            [&](int a, int b) { return key(a) != key(b) ? key(a) < key(b) : a < b; });
+  std::vector<std::vector<int>> groups;
+  for (std::size_t i = 0; i < open.size(); ++i) {
+    if (i == 0 || key(open[i]) != key(open[i - 1])) groups.emplace_back();
+    groups.back().push_back(open[i]);
+  }
+  groups.erase(std::remove_if(groups.begin(), groups.end(),
+                              [](const std::vector<int>& g) { return g.size() < 2; }),
+               groups.end());
+  return groups;
+}
+
+}  // namespace
+
+Welding weldBoundaryVertices(TriMesh& mesh) {
+  Welding out;
+  const std::vector<std::vector<int>> groups = coincidentBoundaryVertices(mesh);
+  if (groups.empty()) return out;
+  std::vector<int> target(static_cast<std::size_t>(mesh.V.rows()));
+  std::iota(target.begin(), target.end(), 0);
+  for (const std::vector<int>& g : groups)
+    for (int v : g) target[v] = g.front();
+  TriMesh welded;
+  welded.V = mesh.V;
+  welded.N = mesh.N;
+  welded.F.resize(mesh.F.rows(), 3);
+  Eigen::Index kept = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const std::array<int, 3> t = {target[mesh.F(f, 0)], target[mesh.F(f, 1)], target[mesh.F(f, 2)]};
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
+    welded.F.row(kept++) << t[0], t[1], t[2];
+  }
+  welded.F.conservativeResize(kept, 3);
+  removeUnreferencedVertices(welded);
+  try {
+    TriMesh split = welded;  // a pinch that welding makes is split again afterwards
+    splitNonManifoldVertices(split);
+    validate(split, "the welded mesh");
+  } catch (const Error& e) {
+    out.refused = e.what();
+    return out;
+  }
+  for (const std::vector<int>& g : groups) out.vertices += static_cast<int>(g.size()) - 1;
+  out.faces = static_cast<int>(mesh.F.rows() - kept);
+  mesh = std::move(welded);
+  return out;
+}
+
+int splitNonManifoldVertices(TriMesh& mesh) {
+  if (!wellFormed(mesh)) return 0;
+  const int nv = static_cast<int>(mesh.V.rows());
+  const Connectivity conn(mesh.F, nv);
+  if (conn.firstNonManifoldVertex < 0 || conn.firstNonManifoldEdgeFace >= 0 ||
+      conn.firstFlippedFace >= 0)
+    return 0;
+  // The faces of each non-manifold vertex, in one pass over the faces.
+  std::vector<int> slot(static_cast<std::size_t>(nv), -1), pinched;
+  for (int v = 0; v < nv; ++v)
+    if (!conn.isManifoldVertex(v)) {
+      slot[v] = static_cast<int>(pinched.size());
+      pinched.push_back(v);
+    }
+  std::vector<std::vector<int>> faces(pinched.size());
+  for (int f = 0; f < static_cast<int>(mesh.F.rows()); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (slot[mesh.F(f, k)] >= 0) faces[slot[mesh.F(f, k)]].push_back(f);
+  // Every fan but the first gets a copy of the vertex.
+  std::vector<std::pair<int, std::vector<int>>> copies;  // (vertex, faces of the copy)
+  for (std::size_t i = 0; i < pinched.size(); ++i) {
+    std::vector<std::vector<int>> fans = fansAround(mesh.F, faces[i], pinched[i]);
+    for (std::size_t k = 1; k < fans.size(); ++k)
+      copies.emplace_back(pinched[i], std::move(fans[k]));
+  }
+  const bool normals = mesh.N.rows() == nv;
+  mesh.V.conservativeResize(nv + static_cast<Eigen::Index>(copies.size()), 3);
+  if (normals) mesh.N.conservativeResize(mesh.V.rows(), 3);
+  for (std::size_t c = 0; c < copies.size(); ++c) {
+    const int v = copies[c].first, copy = nv + static_cast<int>(c);
+    mesh.V.row(copy) = mesh.V.row(v);
+    if (normals) mesh.N.row(copy) = mesh.N.row(v);
+    for (int f : copies[c].second)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.F(f, k) == v) mesh.F(f, k) = copy;
+  }
+  return static_cast<int>(copies.size());
 }
 
 }  // namespace osdmra

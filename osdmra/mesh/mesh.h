@@ -31,6 +31,35 @@ void validate(const TriMesh& mesh, const std::string& source);
 /// in their order; returns how many were dropped.
 int removeUnreferencedVertices(TriMesh& mesh);
 
+/// What weldBoundaryVertices() did.
+struct Welding {
+  int vertices = 0;  ///< vertices merged into another at the same position
+  int faces = 0;     ///< faces dropped because two of their corners merged
+  /// Why nothing was welded although coincident boundary vertices exist (the welded
+  /// mesh would not pass validate()); empty otherwise.
+  std::string refused;
+};
+
+/// Merges boundary vertices that lie at exactly the same position, the way a triangle
+/// soup (an STL file written as OBJ, say) or a mesh split along its texture seams has
+/// every seam vertex twice: faces are renumbered to the first vertex of each group,
+/// faces left with a repeated corner are dropped, and the vertices no face uses any
+/// more (those merged, and any other) removed.
+/// Interior vertices are never merged (a surface may touch itself). Nothing changes,
+/// and `refused` says why, when the welded mesh would not pass validate() once its
+/// pinched vertices are split (splitNonManifoldVertices); nothing
+/// changes either when the mesh has an index out of range or a repeated corner, which
+/// validate() reports.
+Welding weldBoundaryVertices(TriMesh& mesh);
+
+/// Splits every vertex whose faces form separate fans that touch only there (a
+/// "bowtie", common in scans), one copy per fan after the first, at the same position
+/// (and normal); returns how many copies were added. The surface is the same, its
+/// topology now a manifold's (two sheets touching at a point). Nothing changes when the
+/// mesh has an index out of range, a repeated corner, a non-manifold edge or
+/// inconsistent orientation, which validate() reports.
+int splitNonManifoldVertices(TriMesh& mesh);
+
 /// Diagonal of the axis-aligned bounding box (0 for an empty mesh).
 double boundingBoxDiagonal(const Points& V);
 

@@ -275,6 +275,25 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
         "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  // The same surface as a triangle soup (every face with its own three vertices, as an
+  // STL file turned into OBJ) is welded first, and remeshes without defects.
+  {
+    const TriMesh t = readMesh(path("t3.obj"));
+    std::ofstream soup(path("soup.obj"));
+    soup.precision(17);
+    for (Eigen::Index f = 0; f < t.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        soup << "v " << t.V(t.F(f, k), 0) << " " << t.V(t.F(f, k), 1) << " " << t.V(t.F(f, k), 2)
+             << "\n";
+    for (Eigen::Index f = 0; f < t.F.rows(); ++f)
+      soup << "f " << 3 * f + 1 << " " << 3 * f + 2 << " " << 3 * f + 3 << "\n";
+  }
+  const Result s =
+      run("remesh " + path("soup.obj") + " --base-faces 100 --levels 4 --json -o " + path("s.ply"));
+  ASSERT_EQ(s.status, 0) << s.err;
+  for (const char* key : {"\"welded_vertices\": ", "\"self_intersections\": 0", "\"warnings\": []"})
+    EXPECT_NE(s.out.find(key), std::string::npos) << key << " in " << s.out;
+  EXPECT_EQ(s.out.find("\"welded_vertices\": 0"), std::string::npos) << s.out;
   // A base far too coarse, split once: the result is far from the input somewhere,
   // and the user is told (stderr and JSON) but still gets it.
   const Result coarse =
@@ -308,16 +327,28 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   ASSERT_EQ(demo.status, 0) << demo.err;
   EXPECT_NE(readFile(path("demo/errors.md")).find("Remeshing"), std::string::npos);
   EXPECT_TRUE(fs::exists(path("demo/t3-loop-4054.obj")));
-  // Two tetrahedra sharing one vertex: a bowtie, refused with the vertex named.
+  // Two tetrahedra sharing one vertex: a bowtie, split into one vertex per tetrahedron
+  // and remeshed; where they touch, the input's own crossing pairs are said.
   {
     std::ofstream f(path("bowtie.obj"));
     f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv -1 0 0\nv 0 -1 0\nv 0 0 -1\n"
          "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
          "f 1 6 5\nf 1 5 7\nf 1 7 6\nf 5 6 7\n";
   }
-  const Result bad = run("remesh " + path("bowtie.obj") + " -o " + path("b.obj"));
+  const Result split = run("remesh " + path("bowtie.obj") +
+                           " --base-faces 8 --levels 2 --json -o " + path("bow.obj"));
+  ASSERT_EQ(split.status, 0) << split.err;
+  EXPECT_NE(split.out.find("\"split_vertices\": 1"), std::string::npos) << split.out;
+  EXPECT_NE(split.err.find("(the input itself has 6 crossing pairs)"), std::string::npos)
+      << split.err;
+  // Three triangles on one edge cannot be split into a manifold: refused, edge named.
+  {
+    std::ofstream f(path("book.obj"));
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+  }
+  const Result bad = run("remesh " + path("book.obj") + " -o " + path("b.obj"));
   EXPECT_EQ(bad.status, 1);
-  EXPECT_NE(bad.err.find("vertex 0 is non-manifold"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("edge (0, 1) is shared by 3 faces"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(path("b.obj")));
 }
 

@@ -144,3 +144,128 @@ TEST(BoundingBox, Diagonal) {
   p << -1, 2, 3, 2, 6, 3;
   EXPECT_DOUBLE_EQ(boundingBoxDiagonal(p), 5.0);
 }
+
+namespace {
+
+/// Every face of `m` with its own three vertices, as an STL file turned into OBJ has.
+TriMesh soupOf(const TriMesh& m) {
+  TriMesh s;
+  s.V.resize(3 * m.F.rows(), 3);
+  s.F.resize(m.F.rows(), 3);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      s.V.row(3 * f + k) = m.V.row(m.F(f, k));
+      s.F(f, k) = static_cast<int>(3 * f + k);
+    }
+  return s;
+}
+
+}  // namespace
+
+TEST(Weld, ASoupBecomesTheMeshItCameFrom) {
+  const TriMesh octahedron = makeMesh(
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+      {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+  TriMesh soup = soupOf(octahedron);
+  // -0 and +0 are the same position.
+  soup.V(0, 1) = -0.0;
+  const Welding w = weldBoundaryVertices(soup);
+  EXPECT_EQ(w.vertices, 24 - 6);
+  EXPECT_EQ(w.faces, 0);
+  EXPECT_TRUE(w.refused.empty()) << w.refused;
+  ASSERT_EQ(soup.V.rows(), 6);
+  ASSERT_EQ(soup.F.rows(), 8);
+  EXPECT_NO_THROW(validate(soup, "welded"));
+  // Each face keeps its corners' positions, in order.
+  for (Eigen::Index f = 0; f < 8; ++f)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(Eigen::RowVector3d(soup.V.row(soup.F(f, k))),
+                Eigen::RowVector3d(octahedron.V.row(octahedron.F(f, k))))
+          << f << " " << k;
+}
+
+TEST(Weld, DropsFacesWhoseCornersMergeAndLeavesTheRestAlone) {
+  // A square of two triangles with a sliver (0, 2, 2') along its diagonal, all apart:
+  // the sliver's two corners at the same point merge and it goes.
+  TriMesh m = makeMesh({{0, 0, 0},
+                        {1, 0, 0},
+                        {1, 1, 0},
+                        {0, 0, 0},
+                        {1, 1, 0},
+                        {0, 1, 0},
+                        {0, 0, 0},
+                        {1, 1, 0},
+                        {1, 1, 0}},
+                       {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+  const Welding w = weldBoundaryVertices(m);
+  EXPECT_EQ(w.faces, 1);
+  EXPECT_EQ(m.F.rows(), 2);
+  EXPECT_EQ(m.V.rows(), 4);
+  // A mesh without coincident boundary vertices is left as it is; so are interior
+  // vertices at the same position (two closed tetrahedra, one inside the other's place).
+  TriMesh two = cornerTetrahedron();
+  const TriMesh one = two;
+  two.V.conservativeResize(8, 3);
+  two.V.bottomRows(4) = one.V;
+  two.F.conservativeResize(8, 3);
+  two.F.bottomRows(4) = one.F.array() + 4;
+  const TriMesh before = two;
+  const Welding none = weldBoundaryVertices(two);
+  EXPECT_EQ(none.vertices, 0);
+  EXPECT_EQ(two.V, before.V);
+  EXPECT_EQ(two.F, before.F);
+}
+
+TEST(Weld, RefusesWhatWouldNotBeAManifold) {
+  // Three triangles apart, hinged on the same segment: welded, that edge would have
+  // three faces. Nothing changes, and the reason is given.
+  TriMesh m = makeMesh({{0, 0, 0},
+                        {1, 0, 0},
+                        {0, 1, 0},
+                        {1, 0, 0},
+                        {0, 0, 0},
+                        {0, -1, 0},
+                        {0, 0, 0},
+                        {1, 0, 0},
+                        {0, 0, 1}},
+                       {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+  const TriMesh before = m;
+  const Welding w = weldBoundaryVertices(m);
+  EXPECT_EQ(w.vertices, 0);
+  EXPECT_NE(w.refused.find("non-manifold"), std::string::npos) << w.refused;
+  EXPECT_EQ(m.V, before.V);
+  EXPECT_EQ(m.F, before.F);
+}
+
+TEST(SplitNonManifold, ABowtieBecomesTwoFansAtTheSamePoint) {
+  // Two triangles touching only at vertex 0 (the bowtie validate() refuses).
+  TriMesh m =
+      makeMesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}}, {{0, 1, 2}, {0, 3, 4}});
+  m.N = m.V;  // normals follow their vertex
+  EXPECT_EQ(splitNonManifoldVertices(m), 1);
+  ASSERT_EQ(m.V.rows(), 6);
+  EXPECT_EQ(m.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(m.F.row(1), Eigen::RowVector3i(5, 3, 4));
+  EXPECT_EQ(Eigen::RowVector3d(m.V.row(5)), Eigen::RowVector3d(m.V.row(0)));
+  EXPECT_EQ(Eigen::RowVector3d(m.N.row(5)), Eigen::RowVector3d(m.N.row(0)));
+  EXPECT_NO_THROW(validate(m, "split"));
+  // A manifold is left alone, and so is what splitting cannot mend (an edge of three
+  // faces), which validate() goes on to report.
+  EXPECT_EQ(splitNonManifoldVertices(m), 0);
+  TriMesh book = makeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                          {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  EXPECT_EQ(splitNonManifoldVertices(book), 0);
+  EXPECT_EQ(book.V.rows(), 5);
+}
+
+TEST(Weld, ASoupWhosePinchesWeldingMakesIsWeldedThenSplit) {
+  // The bowtie above as a soup: welding joins the two triangles at vertex 0 too; that
+  // pinch is split again, so the welding is accepted.
+  TriMesh m = makeMesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {-1, 0, 0}, {-1, -1, 0}},
+                       {{0, 1, 2}, {3, 4, 5}});
+  const Welding w = weldBoundaryVertices(m);
+  EXPECT_EQ(w.vertices, 1);
+  EXPECT_TRUE(w.refused.empty()) << w.refused;
+  EXPECT_EQ(splitNonManifoldVertices(m), 1);
+  EXPECT_NO_THROW(validate(m, "welded and split"));
+}
