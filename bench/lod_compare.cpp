@@ -154,7 +154,8 @@ void compare(const std::string& path, const std::vector<long long>& given,
   for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
     for (auto [sel, pl] : {std::pair{Selection::Importance, Placement::Surface},
                            std::pair{Selection::RateDistortion, Placement::Surface},
-                           std::pair{Selection::RateDistortion, Placement::Fit}})
+                           std::pair{Selection::RateDistortion, Placement::Fit},
+                           std::pair{Selection::RateDistortion, Placement::Closest}})
       configs.push_back({scheme, sel, pl});
   for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
     configs.push_back({scheme, Selection::RateDistortion, Placement::Fit, true});

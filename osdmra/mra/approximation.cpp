@@ -26,6 +26,7 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
   full_.F = h.faces(h.levels());
   full_.V = positions(fullControls_, &full_.N);
+  if (options.placement == Placement::Closest) fullBvh_ = std::make_unique<TriangleBvh>(full_);
 }
 
 Points Approximator::positions(const Points& controls, Points* normals) const {
@@ -71,9 +72,12 @@ Approximation Approximator::make(const KeepMask& selection) const {
     for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
   }
   a.mesh.F = a.lod.compactFaces;
-  if (options_.placement == Placement::Fit)
-    a.mesh.V =
-        fitPositions(lodInterpolation(*bank_.hierarchy, a.lod), full_.V, a.mesh.V, options_.fit);
+  if (options_.placement != Placement::Surface) {
+    const SparseMatrix L = lodInterpolation(*bank_.hierarchy, a.lod);
+    a.mesh.V = fitPositions(L, full_.V, a.mesh.V, options_.fit);
+    if (options_.placement == Placement::Closest)
+      a.mesh.V = fitToClosestPoints(L, a.mesh.F, full_, *fullBvh_, a.mesh.V, options_.fit);
+  }
   return a;
 }
 

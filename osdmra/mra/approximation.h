@@ -99,6 +99,7 @@ class Approximator {
   std::unique_ptr<Hierarchy::LimitStencils> limit_;
   Points fullControls_;  // c^J
   TriMesh full_;
+  std::unique_ptr<TriangleBvh> fullBvh_;  ///< over full_, for Placement::Closest
   mutable std::once_flag countsOnce_;
   mutable std::vector<long long> counts_;
   mutable std::once_flag l2Once_;

@@ -2,21 +2,26 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/normals.h"
+#include "osdmra/geometry/surface_walk.h"
 
 namespace osdmra {
 
 const char* placementName(Placement p) {
-  return p == Placement::Fit ? "fit" : "surface";
+  return p == Placement::Closest ? "closest" : p == Placement::Fit ? "fit" : "surface";
 }
 
 Placement parsePlacement(const std::string& name) {
   if (name == "surface") return Placement::Surface;
   if (name == "fit") return Placement::Fit;
-  throw Error("placement must be surface or fit, got '" + name + "'");
+  if (name == "closest") return Placement::Closest;
+  throw Error("placement must be surface, fit or closest, got '" + name + "'");
 }
 
 namespace {
@@ -144,6 +149,190 @@ Points fitPositions(const SparseMatrix& L, const Points& target, const Points& s
   if (cg.info() != Eigen::Success) throw Error("fitPositions: the normal equations are singular");
   Points x(start.rows(), 3);
   for (int k = 0; k < 3; ++k) x.col(k) = cg.solveWithGuess(b.col(k), start.col(k));
+  return x;
+}
+
+namespace {
+
+using Solver = Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper>;
+
+// The rows of one Gauss-Newton step, each a scalar residual d . (sum_k w_k X_{c_k}) -
+// target over the interleaved coordinates of X (three corners at most), in CSR form.
+class Residuals {
+ public:
+  explicit Residuals(int numVertices) : columns_(3 * numVertices) { outer_.push_back(0); }
+  void add(const std::array<int, 3>& corners, const std::array<double, 3>& weights, int count,
+           const Eigen::Vector3d& direction, double target) {
+    for (int k = 0; k < count; ++k)
+      for (int r = 0; r < 3; ++r) {
+        inner_.push_back(3 * corners[k] + r);
+        values_.push_back(weights[k] * direction(r));
+      }
+    outer_.push_back(static_cast<int>(inner_.size()));
+    target_.push_back(target);
+  }
+  // argmin |J X - target|^2 by conjugate gradients on J^T J from `guess`.
+  Points solve(const Points& guess, const FitOptions& options) const {
+    const Eigen::Map<const SparseMatrix> J(static_cast<Eigen::Index>(target_.size()), columns_,
+                                           static_cast<Eigen::Index>(inner_.size()), outer_.data(),
+                                           inner_.data(), values_.data());
+    const Eigen::SparseMatrix<double> A = (J.transpose() * J).pruned();
+    const Eigen::VectorXd b =
+        J.transpose() * Eigen::Map<const Eigen::VectorXd>(target_.data(), target_.size());
+    Solver cg;
+    cg.setMaxIterations(4 * options.iterations);  // xyz coupled: a system three times larger
+    cg.setTolerance(options.tolerance);
+    cg.compute(A);
+    Eigen::VectorXd x0(columns_);
+    for (Eigen::Index v = 0; v < guess.rows(); ++v) x0.segment<3>(3 * v) = guess.row(v).transpose();
+    const Eigen::VectorXd x = cg.solveWithGuess(b, x0);
+    Points out(guess.rows(), 3);
+    for (Eigen::Index v = 0; v < guess.rows(); ++v) out.row(v) = x.segment<3>(3 * v).transpose();
+    return out;
+  }
+
+ private:
+  Eigen::Index columns_;
+  std::vector<int> outer_, inner_;
+  std::vector<double> values_, target_;
+};
+
+// Where the level of detail X and the full surface are nearest each other, both ways:
+// for each level-J point L_i X, the closest point of the full surface and the unit
+// normal there; for each full vertex, the closest point of the level of detail (a face
+// and barycentric coordinates) and that face's unit normal.
+struct Matches {
+  Points toFull, fullNormal;
+  std::vector<int> lodFace;
+  std::vector<std::array<double, 3>> lodBary;
+  Points lodNormal;
+  double squaredDistance = 0;  // summed over both: what the rounds lower
+};
+
+Matches match(const Points& at, const TriMesh& lod, const TriMesh& full, const TriangleBvh& bvh) {
+  Matches m{Points(at.rows(), 3), Points(at.rows(), 3), std::vector<int>(full.V.rows()),
+            std::vector<std::array<double, 3>>(full.V.rows()), Points(full.V.rows(), 3)};
+  Eigen::VectorXd forward(at.rows()), backward(full.V.rows());
+  const int n = static_cast<int>(at.rows());
+  forChunks(n, numChunks(n, 1 << 12), [&](int, int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const ClosestPoint c = bvh.closestPoint(at.row(i).transpose());
+      m.toFull.row(i) = c.point.transpose();
+      m.fullNormal.row(i) = faceNormal(full, c.face).normalized().transpose();
+      forward(i) = c.distance * c.distance;
+    }
+  });
+  const TriangleBvh lodBvh(lod);
+  const int nf = static_cast<int>(full.V.rows());
+  forChunks(nf, numChunks(nf, 1 << 12), [&](int, int begin, int end) {
+    for (int v = begin; v < end; ++v) {
+      const ClosestPoint c = lodBvh.closestPoint(full.V.row(v).transpose());
+      std::array<double, 3> bary{1.0 / 3, 1.0 / 3, 1.0 / 3};
+      if (barycentricIn(lod, c.face, c.point, bary)) bary = clampedBarycentric(bary);
+      m.lodFace[v] = c.face;
+      m.lodBary[v] = bary;
+      m.lodNormal.row(v) = faceNormal(lod, c.face).normalized().transpose();
+      backward(v) = c.distance * c.distance;
+    }
+  });
+  m.squaredDistance = forward.sum() + backward.sum();
+  return m;
+}
+
+// One Gauss-Newton step of point-to-plane matching both ways, from x: each level-J point
+// onto the full surface's tangent plane at its match, with weight w on sliding along it
+// (else a flat region lets vertices slide freely), and each full vertex onto the plane
+// of the level of detail's face at its match.
+Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const TriMesh& full,
+                        const Points& at, const Matches& m, const Points& x,
+                        const FitOptions& options) {
+  Residuals rows(static_cast<int>(x.rows()));
+  const double slide = std::sqrt(options.tangentWeight);
+  for (Eigen::Index i = 0; i < L.rows(); ++i) {
+    std::array<int, 3> corners{};
+    std::array<double, 3> weights{};
+    int count = 0;
+    for (SparseMatrix::InnerIterator a(L, i); a && count < 3; ++a, ++count) {
+      corners[count] = static_cast<int>(a.col());
+      weights[count] = a.value();
+    }
+    const Eigen::Vector3d normal = m.fullNormal.row(i).transpose(), p = at.row(i).transpose();
+    if (!normal.allFinite()) continue;  // a degenerate face of the full surface
+    rows.add(corners, weights, count, normal, normal.dot(m.toFull.row(i).transpose()));
+    // Two directions along the plane, orthogonal to the normal and each other.
+    const Eigen::Vector3d t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+    rows.add(corners, weights, count, slide * t1, slide * t1.dot(p));
+    rows.add(corners, weights, count, slide * t2, slide * t2.dot(p));
+  }
+  for (Eigen::Index v = 0; v < full.V.rows(); ++v) {
+    const Eigen::Vector3d normal = m.lodNormal.row(v).transpose();
+    if (!normal.allFinite()) continue;
+    const int f = m.lodFace[v];
+    rows.add({faces(f, 0), faces(f, 1), faces(f, 2)}, m.lodBary[v], 3, normal,
+             normal.dot(full.V.row(v).transpose()));
+  }
+  return rows.solve(x, options);
+}
+
+// (b - a) x (c - a) of every face.
+Points faceNormals(const Faces& F, const Points& X) {
+  Points N(F.rows(), 3);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = X.row(F(f, 0)), b = X.row(F(f, 1)), c = X.row(F(f, 2));
+    N.row(f) = (b - a).cross(c - a).transpose();
+  }
+  return N;
+}
+
+// `to`, except that the vertices of every face it would turn over (against its normal
+// in `reference`) stay at x, until no face turns over: that holds by construction once
+// every vertex stays, x having none.
+Points stepWithoutFolds(const Faces& F, const Points& reference, const Points& x,
+                        const Points& to) {
+  Points trial = to;
+  for (;;) {
+    const Eigen::VectorXd facing =
+        (reference.array() * faceNormals(F, trial).array()).rowwise().sum();
+    bool folded = false;
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+      if (!(facing(f) > 0))
+        for (int k = 0; k < 3; ++k)
+          if (trial.row(F(f, k)) != x.row(F(f, k))) {
+            trial.row(F(f, k)) = x.row(F(f, k));
+            folded = true;
+          }
+    if (!folded) return trial;
+  }
+}
+
+}  // namespace
+
+Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const TriMesh& full,
+                          const TriangleBvh& bvh, const Points& start, const FitOptions& options) {
+  if (start.rows() != L.cols() || (faces.size() > 0 && faces.maxCoeff() >= start.rows()))
+    throw Error("fitToClosestPoints: " + std::to_string(L.rows()) + " x " +
+                std::to_string(L.cols()) + " interpolation, " + std::to_string(start.rows()) +
+                " starting points, faces up to vertex " +
+                std::to_string(faces.size() > 0 ? faces.maxCoeff() : -1));
+  const Points reference = faceNormals(faces, start);
+  auto matchAt = [&](const Points& X) {
+    TriMesh lod;
+    lod.V = X;
+    lod.F = faces;
+    return match(L * X, lod, full, bvh);
+  };
+  Points x = start;
+  Matches m = matchAt(x);
+  for (int round = 0; round < options.closestRounds; ++round) {
+    const Points next = stepWithoutFolds(faces, reference, x,
+                                         pointToPlaneStep(L, faces, full, L * x, m, x, options));
+    // A Gauss-Newton step can overshoot where matches jump (a rough surface): a round
+    // that does not bring the two surfaces closer ends the rounds.
+    Matches nextMatches = matchAt(next);
+    if (!(nextMatches.squaredDistance < m.squaredDistance)) break;
+    x = next;
+    m = std::move(nextMatches);
+  }
   return x;
 }
 

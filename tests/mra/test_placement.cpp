@@ -2,9 +2,12 @@
 // least-squares fit of its vertices.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
 
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/mra/approximation.h"
 #include "osdmra/mra/placement.h"
 #include "osdmra/subdivision/shapes.h"
@@ -103,6 +106,85 @@ TEST(Placement, FitLowersTheApproximationsResidual) {
       EXPECT_EQ(a.mesh.F, b.mesh.F);
       const SparseMatrix L = lodInterpolation(h, a.lod);
       EXPECT_LT((L * b.mesh.V - full).norm(), (L * a.mesh.V - full).norm()) << budget;
+    }
+  }
+}
+
+// Closest on a flat full surface (a plane grid): every level-J point goes onto the
+// plane, so the level of detail ends on it exactly (its vertices are level-J points);
+// tangentially they stay near where they were.
+TEST(Placement, ClosestPutsTheLevelOfDetailOnAPlane) {
+  TriMesh base = shapes::disc(4);
+  base.V.col(2).setZero();  // flat
+  const int J = 3;
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+  const LodMesh lod = extractLod(h, randomMask(h, 7, 0.2));
+  const SparseMatrix L = lodInterpolation(h, lod);
+  TriMesh full;
+  full.F = h.faces(J);
+  full.V = subdivide(base, J, Scheme::Linear).V;  // canonical order, as h
+  const TriangleBvh bvh(full);
+  Points start = gather(full.V, lod.vertices);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.02, 0.02);
+  for (Eigen::Index v = 0; v < start.rows(); ++v) start(v, 2) += u(rng);
+  FitOptions o;
+  o.iterations = 500;
+  o.tolerance = 1e-14;
+  const Points x = fitToClosestPoints(L, lod.compactFaces, full, bvh, start, o);
+  EXPECT_LT(x.col(2).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((x.leftCols(2) - start.leftCols(2)).cwiseAbs().maxCoeff(), 0.02);
+  EXPECT_EQ(parsePlacement("closest"), Placement::Closest);
+  EXPECT_STREQ(placementName(Placement::Closest), "closest");
+}
+
+// Through the approximator, both schemes: the same meshes as the fit's, no face turned
+// over against the fit's, the level-J points (what the rounds fit) no farther from the
+// full surface, and the sampled distance lower on a smooth surface. (On a rough one, a
+// noise of 4% per level, the sampled distance at 1,500 of 5,120 triangles came out 12%
+// higher for the polyhedral scheme: the level-J points and area samples disagree there.)
+TEST(Placement, ClosestTurnsNoFaceOverAndComesCloser) {
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    for (double roughness : {0.01, 0.04}) {
+      SCOPED_TRACE(std::string(schemeName(s)) + " " + std::to_string(roughness));
+      const TriMesh base = shapes::byName("icosahedron");
+      const TriMesh surface = subdivide(base, 4, s, roughness, 21);
+      const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
+      const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
+      const Decomposition d = analyze(bank, surface.V);
+      ApproximationOptions fit, closest;
+      fit.placement = Placement::Fit;
+      closest.placement = Placement::Closest;
+      const Approximator a(bank, d, fit), b(bank, d, closest);
+      const TriMesh& full = a.fullResolution();
+      const TriangleBvh bvh(full);
+      for (long long budget : {100LL, 400LL, 1500LL}) {
+        const Approximation x = a.budget(budget), y = b.budget(budget);
+        ASSERT_EQ(x.mesh.F, y.mesh.F);
+        for (Eigen::Index f = 0; f < x.mesh.F.rows(); ++f) {
+          auto normal = [&](const Points& V) {
+            const Eigen::Vector3d p = V.row(x.mesh.F(f, 0)), q = V.row(x.mesh.F(f, 1)),
+                                  r = V.row(x.mesh.F(f, 2));
+            return Eigen::Vector3d((q - p).cross(r - p));
+          };
+          ASSERT_GT(normal(x.mesh.V).dot(normal(y.mesh.V)), 0) << budget << " face " << f;
+        }
+        const SparseMatrix L = lodInterpolation(h, x.lod);
+        auto squared = [&](const Points& V) {
+          const Points at = L * V;
+          double sum = 0;
+          for (Eigen::Index i = 0; i < at.rows(); ++i)
+            sum += std::pow(bvh.closestPoint(at.row(i).transpose()).distance, 2);
+          return sum;
+        };
+        EXPECT_LE(squared(y.mesh.V), squared(x.mesh.V)) << budget;
+        if (roughness > 0.02) continue;
+        DistanceOptions dist;
+        dist.samples = 20000;
+        EXPECT_LT(surfaceDistance(y.mesh, full, dist).rmsRelative,
+                  surfaceDistance(x.mesh, full, dist).rmsRelative)
+            << budget;
+      }
     }
   }
 }
