@@ -48,8 +48,8 @@ commands:
                                too (no extra triangle) unless --exact; --placement
                                fit moves the vertices to the least-squares fit of
                                the full surface (one sparse solve), closest then
-                               matches the two surfaces both ways (a few rounds,
-                               about a second each on 300,000 faces); --metric surface
+                               matches the two surfaces both ways (three rounds,
+                               about a second in all on 300,000 faces); --metric surface
                                weighs importance by area on the surface, not on
                                the base domain; --remesh as
                                for analyze (its distance reported apart)
