@@ -26,6 +26,7 @@
 #include <sstream>
 #include <string>
 
+#include "allocator.h"
 #include "args.h"
 #include "osdmra/base/file.h"
 #include "osdmra/codec/codec.h"
@@ -152,6 +153,9 @@ Row osdmraAt(const AnalysedSurface& a, double encodeSetup, double bitsPerVertex,
 }  // namespace
 
 int main(int argc, char** argv) try {
+  // As the command line: both decoders then run on memory the process keeps, in huge
+  // pages where the system grants them.
+  osdmra::cli::keepFreedMemory();
   const cli::Args args("", std::vector<std::string>(argv + 1, argv + argc),
                        {"csv", "name", "base-faces", "levels", "scheme", "wavelets",
                         "tangent-weight", "level-gain", "rates", "rings"},
