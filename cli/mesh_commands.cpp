@@ -130,6 +130,9 @@ int cmdRemesh(const Argv& argv) {
   }
   if (r.droppedVertices > 0)
     std::printf("%s: dropped %d unreferenced vertices\n", in.c_str(), r.droppedVertices);
+  if (r.duplicateFaces > 0)
+    std::printf("%s: dropped %d faces that repeat an earlier face's corners\n", in.c_str(),
+                r.duplicateFaces);
   if (r.welding.vertices > 0)
     std::printf(
         "%s: welded %d boundary vertices onto others at the same position (%d faces "

@@ -35,6 +35,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("input_vertices", r.inputVertices)
       .add("input_faces", r.inputFaces)
       .add("unreferenced_vertices_dropped", r.droppedVertices)
+      .add("duplicate_faces_dropped", r.duplicateFaces)
       .add("welded_vertices", r.welding.vertices)
       .add("welded_faces_dropped", r.welding.faces)
       .add("split_vertices", r.splitVertices)

@@ -94,11 +94,13 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
   } else {
     TriMesh input = readMesh(path);
     const int dropped = removeUnreferencedVertices(input);
+    const int duplicates = removeDuplicateFaces(input);
     const Welding welding = weldBoundaryVertices(input);
     const int split = splitNonManifoldVertices(input);
     validate(input, path);
     s.remeshing = remeshMeasured(input, path, options, progress);
     s.remeshing->droppedVertices = dropped;
+    s.remeshing->duplicateFaces = duplicates;
     s.remeshing->welding = welding;
     s.remeshing->splitVertices = split;
     if (!welding.refused.empty())

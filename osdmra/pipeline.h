@@ -47,6 +47,7 @@ struct InputOptions {
 struct RemeshReport {
   int inputVertices = 0, inputFaces = 0;  ///< after dropping and welding vertices
   int droppedVertices = 0;                ///< unreferenced input vertices dropped
+  int duplicateFaces = 0;  ///< copies of earlier faces dropped (removeDuplicateFaces)
   /// Coincident boundary vertices merged first (weldBoundaryVertices: a triangle soup,
   /// a mesh split along texture seams).
   Welding welding;

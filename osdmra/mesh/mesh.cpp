@@ -344,6 +344,32 @@ Welding weldBoundaryVertices(TriMesh& mesh) {
   return out;
 }
 
+int removeDuplicateFaces(TriMesh& mesh) {
+  if (!wellFormed(mesh)) return 0;
+  // A face's key: its corners sorted, so that either orientation matches.
+  std::vector<std::pair<std::array<int, 3>, Eigen::Index>> keys;
+  keys.reserve(static_cast<std::size_t>(mesh.F.rows()));
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    std::array<int, 3> k = {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)};
+    std::sort(k.begin(), k.end());
+    keys.emplace_back(k, f);
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<char> drop(static_cast<std::size_t>(mesh.F.rows()), 0);
+  int dropped = 0;
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (keys[i].first == keys[i - 1].first) {  // sorted by face too: the first one stays
+      drop[keys[i].second] = 1;
+      ++dropped;
+    }
+  if (dropped == 0) return 0;
+  Eigen::Index kept = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    if (!drop[f]) mesh.F.row(kept++) = mesh.F.row(f);
+  mesh.F.conservativeResize(kept, 3);
+  return dropped;
+}
+
 int splitNonManifoldVertices(TriMesh& mesh) {
   if (!wellFormed(mesh)) return 0;
   const int nv = static_cast<int>(mesh.V.rows());

@@ -52,6 +52,13 @@ struct Welding {
 /// validate() reports.
 Welding weldBoundaryVertices(TriMesh& mesh);
 
+/// Drops every face whose three corners are those of an earlier face, in either
+/// orientation (simplifiers and exporters leave such copies; the copy makes each of
+/// its edges non-manifold, and one of two back-to-back faces adds nothing to the
+/// surface); returns how many were dropped. Nothing changes when the mesh has an index
+/// out of range or a repeated corner, which validate() reports.
+int removeDuplicateFaces(TriMesh& mesh);
+
 /// Splits every vertex whose faces form separate fans that touch only there (a
 /// "bowtie", common in scans), one copy per fan after the first, at the same position
 /// (and normal); returns how many copies were added. The surface is the same, its

@@ -264,8 +264,18 @@ TEST_F(Cli, SweepWritesCsvAndPlot) {
 
 TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   ASSERT_NO_FATAL_FAILURE(makeSurface("torus", "t.obj", "3 --displace 0.02", "t3.obj"));
-  // An unreferenced vertex is dropped, not refused.
+  // An unreferenced vertex is dropped, not refused; so is a copy of a face (written
+  // the other way round), which another tool's output made a non-manifold edge of.
   { std::ofstream(path("t3.obj"), std::ios::app) << "v 9 9 9\n"; }
+  {
+    const TriMesh t = readMesh(path("t3.obj"));
+    std::ofstream(path("t3dup.obj")) << readFile(path("t3.obj")) << "f " << t.F(7, 2) + 1 << " "
+                                     << t.F(7, 1) + 1 << " " << t.F(7, 0) + 1 << "\n";
+    const Result dup = run("remesh " + path("t3dup.obj") +
+                           " --base-faces 100 --levels 2 --json -o " + path("dup.obj"));
+    ASSERT_EQ(dup.status, 0) << dup.err;
+    EXPECT_NE(dup.out.find("\"duplicate_faces_dropped\": 1"), std::string::npos) << dup.out;
+  }
   const Result r =
       run("remesh " + path("t3.obj") + " --base-faces 100 --levels 4 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;

@@ -258,6 +258,30 @@ TEST(SplitNonManifold, ABowtieBecomesTwoFansAtTheSamePoint) {
   EXPECT_EQ(book.V.rows(), 5);
 }
 
+TEST(DuplicateFaces, CopiesInEitherOrientationGoAndTheFirstStays) {
+  // The octahedron with face 2 repeated as it is and face 5 turned over: each copy makes
+  // its three edges non-manifold, which validate() refuses; dropped, the octahedron is
+  // back, face for face.
+  const TriMesh octahedron = makeMesh(
+      {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+      {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+  TriMesh m = octahedron;
+  m.F.conservativeResize(10, 3);
+  m.F.row(8) = octahedron.F.row(2);
+  m.F.row(9) << 2, 5, 1;  // face 5, (1, 2, 5), the other way round
+  EXPECT_THROW(validate(m, "with copies"), Error);
+  EXPECT_EQ(removeDuplicateFaces(m), 2);
+  EXPECT_EQ(m.F, octahedron.F);
+  EXPECT_NO_THROW(validate(m, "without copies"));
+  // Nothing else goes: not a face sharing two corners, nor one of a malformed mesh.
+  EXPECT_EQ(removeDuplicateFaces(m), 0);
+  TriMesh bad = m;
+  bad.F(0, 1) = bad.F(0, 0);
+  bad.F.row(1) = bad.F.row(0);
+  EXPECT_EQ(removeDuplicateFaces(bad), 0);
+  EXPECT_EQ(bad.F.rows(), 8);
+}
+
 TEST(Weld, ASoupWhosePinchesWeldingMakesIsWeldedThenSplit) {
   // The bowtie above as a soup: welding joins the two triangles at vertex 0 too; that
   // pinch is split again, so the welding is accepted.
