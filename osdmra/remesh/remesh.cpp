@@ -42,6 +42,25 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
+// Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
+// up.
+Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
+                            const SurfaceWalker& walker, const remeshing::Features& features,
+                            const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
+                            int levels, remeshing::GridMap map, const Progress& progress) {
+  using namespace remeshing;
+  Remeshing out = common;
+  Resampled grid =
+      resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
+  out.mesh = std::move(grid.mesh);
+  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress);
+  return out;
+}
+
+long long defectsLeft(const Remeshing& r) {
+  return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections;
+}
+
 }  // namespace
 
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
@@ -69,12 +88,28 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     smoothing.anisotropy = kStages[s.stage].anisotropy;
     smoothParameters(input, walker.connectivity(), charts, pinned, s, smoothing);
   }
-  Resampled grid =
-      resample(input, walker.connectivity(), features.list, s, charts, options.levels, progress);
-  out.mesh = std::move(grid.mesh);
-
-  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress);
-  return out;
+  // Steps 2 and 3 through the straightened map, and where that leaves defects through
+  // the exact inverse of the removals too; the one with fewer defects left is kept. Each
+  // is a bijection, and neither folds less everywhere: the straightened map on dense
+  // scans (the bunny over 600 base faces at J = 5: 2 sampled folds against 13), the
+  // exact one on decimated inputs (the lion over 300: 61 against 4; the camel head
+  // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
+  // the straightened map, none through the exact one).
+  Remeshing best = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
+                                     GridMap::straightened, progress);
+  best.straightenedDefects = defectsLeft(best);
+  if (best.straightenedDefects > 0) {
+    Remeshing exact = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
+                                        GridMap::exact, progress);
+    const long long left = defectsLeft(exact);
+    if (left < best.straightenedDefects) {
+      exact.straightenedDefects = best.straightenedDefects;
+      exact.gridMap = "exact";
+      best = std::move(exact);
+    }
+    best.exactDefects = left;
+  }
+  return best;
 }
 
 }  // namespace osdmra

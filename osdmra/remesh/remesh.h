@@ -59,6 +59,12 @@ struct Remeshing {
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)
   /// that it needed.
   int simplificationRounds = 0, simplificationStage = 0;
+  /// The map the grid was sampled through (resample.h's GridMap): "straightened", or
+  /// "exact" where that one left fewer defects after the clean-up; and the defects
+  /// (flipped, zero-area, crossing pairs) each left (-1: not tried, as the
+  /// straightened map left none).
+  std::string gridMap = "straightened";
+  long long straightenedDefects = 0, exactDefects = -1;
   /// How much the clean-up ran: flipped and zero-area triangles it found, points it
   /// moved, base faces it relaxed as a whole. 0, 0, 0 when sampling folded nothing.
   int cleanupDefectsBefore = 0, cleanupMovedPoints = 0, cleanupRelaxedFaces = 0;

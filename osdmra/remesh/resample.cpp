@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/planar.h"
 
@@ -75,7 +76,7 @@ class Resampler {
       }
   }
 
-  Resampled run(int levels, const Progress& progress);
+  Resampled run(int levels, GridMap map, const Progress& progress);
 
  private:
   bool isBoundaryEdge(int p, int q) const {
@@ -88,7 +89,7 @@ class Resampler {
   bool imageIn(int f, int t, std::array<Vec2, 3>& image) const;
   SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
   int newPoint(const Job& job, bool isFree, long long edge);
-  void place(const Job& job, SurfacePoint& where, Vec3& position) const;
+  void place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const;
   Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
   SurfacePoint onLine(const Line& path, double at) const;
   int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
@@ -150,13 +151,14 @@ SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
 }
 
 // Where a grid point lies on the input: on the input's line under its base edge, or at
-// its parameter through the parameterisation made straight on each input triangle
-// (straight()), starting from its exact inverse (traceToInput).
-void Resampler::place(const Job& job, SurfacePoint& where, Vec3& position) const {
+// its parameter through the exact inverse of the removals (traceToInput), made
+// straight on each input triangle (straight()) for GridMap::straightened.
+void Resampler::place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const {
   if (job.line) {
     where = onLine(*job.line, job.at);
   } else {
-    where = straight(job.face, job.bary, traceToInput(s_.history, job.face, job.bary));
+    where = traceToInput(s_.history, job.face, job.bary);
+    if (map == GridMap::straightened) where = straight(job.face, job.bary, where);
   }
   position = Vec3::Zero();
   for (int i = 0; i < 3; ++i)
@@ -267,7 +269,7 @@ void Resampler::gridOfFace(int f) {
     }
 }
 
-Resampled Resampler::run(int levels, const Progress& progress) {
+Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
   N_ = 1 << levels;
   const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
   // Base vertices are input vertices: a corner of any of their input triangles.
@@ -297,7 +299,7 @@ Resampled Resampler::run(int levels, const Progress& progress) {
     for (int piece = 0; piece < kSteps; ++piece) {
       const int from = begin + (end - begin) * piece / kSteps;
       const int to = begin + (end - begin) * (piece + 1) / kSteps;
-      for (int i = from; i < to; ++i) place(jobs_[i], out_.where[nbv + i], positions[i]);
+      for (int i = from; i < to; ++i) place(jobs_[i], map, out_.where[nbv + i], positions[i]);
       ++done;
       if (chunk == 0 && progress) progress("resample", double(done) / (chunks * kSteps));
     }
@@ -314,9 +316,16 @@ Resampled Resampler::run(int levels, const Progress& progress) {
 
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
-                   const BaseCharts& charts, int levels, const Progress& progress) {
+                   const BaseCharts& charts, int levels, GridMap map, const Progress& progress) {
   Resampler r(input, inputConn, inputFeatures, s, charts);
-  return r.run(levels, progress);
+  return r.run(levels, map, progress);
+}
+
+bool facesAgainstInput(const TriMesh& input, const Vec3& n,
+                       const std::array<const SurfacePoint*, 3>& corners) {
+  for (const SurfacePoint* w : corners)
+    if (w->triangle < 0 || n.dot(faceNormal(input, w->triangle)) > 0) return false;
+  return true;
 }
 
 }  // namespace osdmra::remeshing

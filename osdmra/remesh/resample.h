@@ -33,10 +33,32 @@ struct Resampled {
   std::vector<long long> line;      ///< for points on base edges: the edge; -1 elsewhere
 };
 
+/// The map that takes a grid point from its base face to the input. Both are
+/// bijections; which one samples with fewer folds depends on the input (remesh()
+/// tries the exact one where the straightened one leaves defects).
+enum class GridMap {
+  /// The parameterisation made straight on every input triangle: affine on each, with
+  /// the distortion the simplification bounded. Best where input triangles are small
+  /// against the grid's (dense scans).
+  straightened,
+  /// The exact inverse of the removals (traceToInput), piecewise linear over their
+  /// retriangulations. Best where input triangles are large against the grid's and
+  /// straddle base edges (decimated and CAD-like inputs), whose corners the charts of
+  /// the straightened map see only through unfolded neighbours.
+  exact,
+};
+
 /// Resamples the simplification of `input` (whose connectivity is `inputConn` and
 /// feature edges `inputFeatures`) at `levels` rounds of 1-to-4 splitting.
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
-                   const BaseCharts& charts, int levels, const Progress& progress = {});
+                   const BaseCharts& charts, int levels, GridMap map = GridMap::straightened,
+                   const Progress& progress = {});
+
+/// Whether a triangle of normal `n` (not normalised) with corners sampled at `corners`
+/// faces against the input triangle under each of them: a fold of the sampling. The
+/// one criterion of Remeshing::flippedTriangles, before and after the clean-up.
+bool facesAgainstInput(const TriMesh& input, const Vec3& n,
+                       const std::array<const SurfacePoint*, 3>& corners);
 
 }  // namespace osdmra::remeshing

@@ -54,52 +54,87 @@ struct Sampling {
   Resampled grid;
 };
 
-Sampling resampled(const TriMesh& input, int baseFaces, int levels) {
+Sampling resampled(const TriMesh& input, int baseFaces, int levels,
+                   GridMap map = GridMap::straightened) {
   Sampling r{input, {}, {}};
   const Features features = detectFeatures(input, 70.0);
   r.s = simplify(input, features, baseFaces);
   const Connectivity conn(input.F, static_cast<int>(input.V.rows()));
-  r.grid = resample(input, conn, features.list, r.s, BaseCharts(r.s.base), levels);
+  r.grid = resample(input, conn, features.list, r.s, BaseCharts(r.s.base), levels, map);
   return r;
 }
+
+const GridMap kMaps[] = {GridMap::straightened, GridMap::exact};
 
 }  // namespace
 
 TEST(Resample, GridPointsLieOnTheInputWhereTheyWereSampled) {
-  const Sampling r = resampled(subdivide(shapes::torus(), 3, Scheme::Loop, 0.01, 5), 60, 3);
-  const TriMesh& m = r.grid.mesh;
-  validate(m, "resampled");
-  ASSERT_EQ(m.F.rows(), r.s.base.F.rows() * 64);
-  ASSERT_EQ(r.grid.where.size(), static_cast<std::size_t>(m.V.rows()));
-  // Shared edge points make it the base's topology, without cracks.
-  EXPECT_EQ(topology(m), topology(r.input));
-  for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
-    const SurfacePoint& w = r.grid.where[v];
-    ASSERT_GE(w.triangle, 0);
-    Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
-    for (int k = 0; k < 3; ++k) x += w.bary[k] * r.input.V.row(r.input.F(w.triangle, k));
-    EXPECT_LT((x - m.V.row(v)).norm(), 1e-12) << "vertex " << v;
+  for (GridMap map : kMaps) {
+    SCOPED_TRACE(static_cast<int>(map));
+    const Sampling r = resampled(subdivide(shapes::torus(), 3, Scheme::Loop, 0.01, 5), 60, 3, map);
+    const TriMesh& m = r.grid.mesh;
+    validate(m, "resampled");
+    ASSERT_EQ(m.F.rows(), r.s.base.F.rows() * 64);
+    ASSERT_EQ(r.grid.where.size(), static_cast<std::size_t>(m.V.rows()));
+    // Shared edge points make it the base's topology, without cracks.
+    EXPECT_EQ(topology(m), topology(r.input));
+    for (Eigen::Index v = 0; v < m.V.rows(); ++v) {
+      const SurfacePoint& w = r.grid.where[v];
+      ASSERT_GE(w.triangle, 0);
+      Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
+      for (int k = 0; k < 3; ++k) x += w.bary[k] * r.input.V.row(r.input.F(w.triangle, k));
+      EXPECT_LT((x - m.V.row(v)).norm(), 1e-12) << "vertex " << v;
+    }
+    // The base vertices come first and are input vertices.
+    for (Eigen::Index v = 0; v < r.s.base.V.rows(); ++v) EXPECT_EQ(m.V.row(v), r.s.base.V.row(v));
   }
-  // The base vertices come first and are input vertices.
-  for (Eigen::Index v = 0; v < r.s.base.V.rows(); ++v) EXPECT_EQ(m.V.row(v), r.s.base.V.row(v));
+}
+
+// The exact map is the removals' inverse itself: a grid point inside a base face lies
+// where traceToInput puts its grid parameter.
+TEST(Resample, TheExactMapIsTheInverseOfTheRemovals) {
+  const int levels = 3, N = 1 << levels;
+  const Sampling r =
+      resampled(subdivide(shapes::torus(), 3, Scheme::Loop, 0.01, 5), 60, levels, GridMap::exact);
+  const TriMesh& m = r.grid.mesh;
+  // Each interior grid point (i, j) of base face f, at the place traceToInput gives its
+  // parameter, is a vertex of the face's triangles.
+  int checked = 0;
+  for (Eigen::Index f = 0; f < r.s.base.F.rows(); ++f)
+    for (int i = 1; i < N; ++i)
+      for (int j = 1; i + j < N; ++j) {
+        const SurfacePoint w = traceToInput(r.s.history, static_cast<int>(f),
+                                            {double(N - i - j) / N, double(i) / N, double(j) / N});
+        Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
+        for (int k = 0; k < 3; ++k) x += w.bary[k] * r.input.V.row(r.input.F(w.triangle, k));
+        bool found = false;
+        for (Eigen::Index q = f * N * N; q < (f + 1) * N * N && !found; ++q)
+          for (int k = 0; k < 3 && !found; ++k) found = (m.V.row(m.F(q, k)) - x).norm() < 1e-12;
+        EXPECT_TRUE(found) << "face " << f << " grid point " << i << ", " << j;
+        ++checked;
+      }
+  EXPECT_GT(checked, 0);
 }
 
 TEST(Resample, ADistortedButBijectiveChartComesOutWithoutAFold) {
   const TriMesh input = warpedSquare(40, squeezeAndShear);
-  for (int levels : {3, 4}) {
-    SCOPED_TRACE(levels);
-    const Sampling r = resampled(input, 24, levels);
-    const TriMesh& m = r.grid.mesh;
-    EXPECT_EQ(topology(m), topology(input));
-    // In the plane of the input, every grid triangle keeps the orientation of the
-    // input's (+z) and has area; with the boundary on the boundary, that makes the
-    // grid an embedding.
-    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-      const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
-      EXPECT_GT((b - a).cross(c - a).z(), 1e-12) << "face " << f;
+  for (GridMap map : kMaps)
+    for (int levels : {3, 4}) {
+      SCOPED_TRACE(levels);
+      SCOPED_TRACE(static_cast<int>(map));
+      const Sampling r = resampled(input, 24, levels, map);
+      const TriMesh& m = r.grid.mesh;
+      EXPECT_EQ(topology(m), topology(input));
+      // In the plane of the input, every grid triangle keeps the orientation of the
+      // input's (+z) and has area; with the boundary on the boundary, that makes the
+      // grid an embedding.
+      for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+        const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)),
+                              c = m.V.row(m.F(f, 2));
+        EXPECT_GT((b - a).cross(c - a).z(), 1e-12) << "face " << f;
+      }
+      for (Eigen::Index v = 0; v < m.V.rows(); ++v) EXPECT_EQ(m.V(v, 2), 0.0);
     }
-    for (Eigen::Index v = 0; v < m.V.rows(); ++v) EXPECT_EQ(m.V(v, 2), 0.0);
-  }
 }
 
 // The same chart bent into a half cylinder: the grid still has no flipped triangle and
