@@ -28,6 +28,12 @@ using Where = SurfacePoint;
 // defect after defect. Over the scans of docs/REMESH.md the disks stay below it.
 constexpr long long kDiskBudget = 64;
 
+// And the untangling moves at most this many points per grid point in all: over the
+// scans of docs/REMESH.md and their decimated and noisy copies it moved at most 0.25
+// per grid point; on an input that crosses itself thousands of times its rounds went on
+// over tens of thousands of faces for minutes.
+constexpr long long kUntangleBudget = 1;
+
 // The faces around each vertex: faces[start[v]], ..., faces[start[v + 1] - 1], in face
 // order (a cheap incidence list; Connectivity also orders them, at more cost).
 struct FacesAround {
@@ -151,8 +157,9 @@ class Cleaner {
   std::vector<int> triangleStamp_, vertexStamp_;
   int lifts_ = 0;
   std::vector<int> dist_, local_;
-  // Grid points the disks of resampleDisk may still solve for, over the whole clean-up.
-  long long diskBudget_ = 0;
+  // Grid points the disks of resampleDisk may still solve for, and moves the untangling
+  // may still try, over the whole clean-up.
+  long long diskBudget_ = 0, untangleBudget_ = 0;
   // Faces still to repair, and the faces of the last count of defects.
   std::vector<Eigen::Index> left_, flagged_;
   // The crossing pairs (f < g, sorted) as of the points touched_ since they were counted.
@@ -188,6 +195,7 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       dist_(out.mesh.V.rows(), -1),
       local_(out.mesh.V.rows(), -1),
       diskBudget_(kDiskBudget * static_cast<long long>(out.mesh.V.rows())),
+      untangleBudget_(kUntangleBudget * static_cast<long long>(out.mesh.V.rows())),
       isTouched_(out.mesh.V.rows(), 0) {}
 
 // The smoother reference of the repairs: the input's area-weighted vertex normals
@@ -775,6 +783,7 @@ void Cleaner::repair() {
     sortUnique(candidates);
     bool moved = false;
     for (int v : candidates) {
+      if (untangleBudget_-- <= 0) return;
       // A point on a boundary may, as a last resort, leave it for the inside (the
       // boundary of the remeshed surface then cuts a notch of the input's rim).
       const bool loose = v >= numBase_ && rings_.isBoundaryVertex(v);
