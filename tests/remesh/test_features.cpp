@@ -4,12 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
+#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/features.h"
+#include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
 using namespace osdmra::remeshing;
+using namespace osdmra::test;
 
 namespace {
 
@@ -57,4 +62,27 @@ TEST(Features, BoundaryCornersAreFoundAtTheSpanAskedFor) {
   // a plate corner turns by 90 degrees, and its neighbours, which see it within their
   // reach and turn less, are not corners as well.
   EXPECT_EQ(cornersOf(detectFeatures(plate, 70.0, 4.0)), plateCorners);
+}
+
+// An edge is a feature where the surface on either side meets at the angle, not where a
+// sliver alone turns: a sphere of 1,280 faces displaced by noise at every level has
+// edges whose two faces' normals differ by more than 70 degrees, in chains, but no
+// feature; a cube refined linearly keeps all of its 12 x 16 edges.
+TEST(Features, NoiseIsNotAFeatureButACubesEdgesAre) {
+  const TriMesh noisy = subdivide(shapes::icosahedron(), 3, Scheme::Loop, 0.05, 3);
+  int sharpPairs = 0;
+  for (Eigen::Index f = 0; f < noisy.F.rows(); ++f)
+    for (Eigen::Index g = f + 1; g < noisy.F.rows(); ++g) {
+      int shared = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) shared += noisy.F(f, i) == noisy.F(g, j);
+      if (shared == 2 && faceNormal(noisy, f).normalized().dot(faceNormal(noisy, g).normalized()) <
+                             std::cos(70.0 * 3.14159265358979 / 180))
+        ++sharpPairs;
+    }
+  ASSERT_GE(sharpPairs, 4);  // the precondition: face pairs as sharp as a feature
+  EXPECT_TRUE(detectFeatures(noisy, 70.0).edges.empty());
+
+  const TriMesh cube = subdivide(unitCube(), 4, Scheme::Linear);
+  EXPECT_EQ(detectFeatures(cube, 70.0).edges.size(), 12u * 16u);
 }
