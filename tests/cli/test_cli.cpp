@@ -282,7 +282,9 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   for (const char* key :
        {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
         "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
-        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []"})
+        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []",
+        "\"grid_map\": {\"used\": \"straightened\", \"straightened_defects\": 0, "
+        "\"exact_defects\": -1}"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
