@@ -12,7 +12,6 @@
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/planar.h"
-#include "osdmra/remesh/resample.h"
 
 namespace osdmra::remeshing {
 
@@ -217,7 +216,10 @@ bool Cleaner::badCorners(int i, int j, int k, bool& degenerate) const {
   const Vec3 a = m_.V.row(i), b = m_.V.row(j), c = m_.V.row(k);
   const Vec3 n = (b - a).cross(c - a);
   degenerate = n.norm() <= tinyArea_;
-  return degenerate || facesAgainstInput(input_, n, {&where_[i], &where_[j], &where_[k]});
+  if (degenerate) return true;
+  for (int v : {i, j, k})
+    if (where_[v].triangle < 0 || n.dot(faceNormal(input_, where_[v].triangle)) > 0) return false;
+  return true;
 }
 
 bool Cleaner::bad(Eigen::Index f, bool& degenerate) const {

@@ -97,18 +97,19 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // the straightened map, none through the exact one).
   Remeshing best = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
                                      GridMap::straightened, progress);
-  best.straightenedDefects = defectsLeft(best);
-  if (best.straightenedDefects > 0) {
+  const long long straightenedLeft = defectsLeft(best);
+  long long exactLeft = -1;
+  if (straightenedLeft > 0) {
     Remeshing exact = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
                                         GridMap::exact, progress);
-    const long long left = defectsLeft(exact);
-    if (left < best.straightenedDefects) {
-      exact.straightenedDefects = best.straightenedDefects;
-      exact.gridMap = "exact";
+    exactLeft = defectsLeft(exact);
+    if (exactLeft < straightenedLeft) {
       best = std::move(exact);
+      best.gridMap = "exact";
     }
-    best.exactDefects = left;
   }
+  best.straightenedDefects = straightenedLeft;
+  best.exactDefects = exactLeft;
   return best;
 }
 

@@ -6,7 +6,6 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
-#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/planar.h"
 
@@ -319,13 +318,6 @@ Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const BaseCharts& charts, int levels, GridMap map, const Progress& progress) {
   Resampler r(input, inputConn, inputFeatures, s, charts);
   return r.run(levels, map, progress);
-}
-
-bool facesAgainstInput(const TriMesh& input, const Vec3& n,
-                       const std::array<const SurfacePoint*, 3>& corners) {
-  for (const SurfacePoint* w : corners)
-    if (w->triangle < 0 || n.dot(faceNormal(input, w->triangle)) > 0) return false;
-  return true;
 }
 
 }  // namespace osdmra::remeshing

@@ -55,10 +55,4 @@ Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const BaseCharts& charts, int levels, GridMap map = GridMap::straightened,
                    const Progress& progress = {});
 
-/// Whether a triangle of normal `n` (not normalised) with corners sampled at `corners`
-/// faces against the input triangle under each of them: a fold of the sampling. The
-/// one criterion of Remeshing::flippedTriangles, before and after the clean-up.
-bool facesAgainstInput(const TriMesh& input, const Vec3& n,
-                       const std::array<const SurfacePoint*, 3>& corners);
-
 }  // namespace osdmra::remeshing
