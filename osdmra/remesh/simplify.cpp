@@ -10,8 +10,8 @@
 namespace osdmra::remeshing {
 
 const std::vector<StageLimits> kStages = {
-    {2, 15, 1.5}, {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},
-    {8, 10, 1.5}, {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875},
+    {2, 15, 1.5},   {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},         {8, 10, 1.5},
+    {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875}, {24, 5, 1.875, true},
 };
 
 namespace {
@@ -226,7 +226,11 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
 // bounded distortion (`worst`: the largest anisotropy).
 bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   if (!isBijective(p.flat, p.triangles, p.ring.boundary)) return false;
-  const double minAngle = limits().flatAngle * kPi / 180;
+  double minAngle = limits().flatAngle * kPi / 180;
+  if (limits().orAsSkinnyAsReplaced)
+    for (int k = 0; k < p.ring.numFaces(); ++k)
+      minAngle =
+          std::min(minAngle, smallestAngle(Vec2::Zero(), p.flat.points[k], p.flat.points[k + 1]));
   for (const auto& t : p.triangles)
     if (smallestAngle(p.flat.points[t[0]], p.flat.points[t[1]], p.flat.points[t[2]]) < minAngle)
       return false;
@@ -441,8 +445,9 @@ void Simplifier::run(int target, const Progress& progress, Simplification& out) 
   if (aliveFaces_ > target)
     out.stopReason =
         "no vertex can be removed without changing the topology, cutting a feature "
-        "line's corner, flattening the tip of a protrusion (a one-ring under 192 "
-        "degrees) or distorting the parameterisation beyond the last stage's bounds";
+        "line's corner, leaving a feature line with one face on a side, flattening the "
+        "tip of a protrusion (a one-ring under 192 degrees) or distorting the "
+        "parameterisation beyond the last stage's bounds";
   if (progress) progress("simplify", 1.0);
 }
 

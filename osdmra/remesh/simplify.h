@@ -34,6 +34,11 @@ struct StageLimits {
   double flatAngle;
   /// Largest z^a exponent a (and smallest 1 / a): how curved a one-ring may be.
   double power;
+  /// Whether a new face may go under flatAngle, down to the smallest angle of the
+  /// faces the removal replaces (never skinnier than those): inputs made of slivers,
+  /// as CAD exports are (a cylinder's side one strip of 1-degree triangles, caps fanned
+  /// into their centres), have no removal whose new faces all meet any fixed bound.
+  bool orAsSkinnyAsReplaced = false;
 };
 
 /// The stages, strictest first. Every stage checks every input triangle with a corner

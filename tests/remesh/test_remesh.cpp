@@ -12,6 +12,7 @@
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/remesh.h"
+#include "osdmra/remesh/simplify.h"
 #include "osdmra/subdivision/recovery.h"
 #include "osdmra/subdivision/shapes.h"
 #include "support.h"
@@ -206,6 +207,58 @@ TEST(Remesh, KeepsTheTipOfAProtrusion) {
     const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
     EXPECT_LT(dist.hausdorffRelative, baseFaces == 8 ? 0.025 : 0.01) << dist.hausdorffRelative;
   }
+}
+
+namespace {
+
+// A cylinder as CAD programs and STL exports write it: n segments, the side one strip
+// of 2n triangles spanning the whole height (angles of about 360 / n degrees), each
+// cap a fan of n triangles into its centre (valence n).
+TriMesh cadCylinder(int n, double height) {
+  TriMesh m;
+  m.V.resize(2 * n + 2, 3);
+  m.F.resize(4 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    m.V.row(i) << std::cos(a), std::sin(a), 0;
+    m.V.row(n + i) << std::cos(a), std::sin(a), height;
+  }
+  m.V.row(2 * n) << 0, 0, 0;
+  m.V.row(2 * n + 1) << 0, 0, height;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.F.row(4 * i) << i, j, n + j;
+    m.F.row(4 * i + 1) << i, n + j, n + i;
+    m.F.row(4 * i + 2) << 2 * n, j, i;
+    m.F.row(4 * i + 3) << 2 * n + 1, n + i, n + j;
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(Remesh, SimplifiesAnInputMadeOfSlivers) {
+  // Every side triangle of the 128-segment cylinder has an angle of 1.4 degrees, under
+  // every stage's smallest flat angle (5 degrees at the loosest): until 2026-11-26 no
+  // vertex could go and the base kept all 512 faces for the 60 asked. The last stage
+  // lets a removal make faces as skinny as the skinniest it replaces, never skinnier.
+  const TriMesh input = cadCylinder(128, 3.0);
+  validate(input, "cylinder");
+  RemeshOptions o;
+  o.baseFaces = 60;
+  o.levels = 3;
+  const Remeshing r = remesh(input, o);
+  EXPECT_LE(r.base.F.rows(), 60);
+  EXPECT_GT(r.base.F.rows(), 54);
+  EXPECT_TRUE(r.baseSizeReason.empty()) << r.baseSizeReason;
+  EXPECT_EQ(r.simplificationStage, static_cast<int>(remeshing::kStages.size()) - 1);
+  EXPECT_EQ(topology(r.mesh), topology(input));
+  EXPECT_EQ(r.cleanupMovedPoints, 0);
+  EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles + r.selfIntersections, 0);
+  // The rims are feature lines: the remesh keeps the cylinder's shape.
+  DistanceOptions d;
+  d.samples = 20000;
+  EXPECT_LT(surfaceDistance(r.mesh, input, d).hausdorffRelative, 1e-3);
 }
 
 TEST(Remesh, RejectsBadOptions) {
