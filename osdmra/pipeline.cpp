@@ -96,13 +96,27 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     const int dropped = removeUnreferencedVertices(input);
     const int duplicates = removeDuplicateFaces(input);
     const Welding welding = weldBoundaryVertices(input);
+    const int cut = cutNonManifoldEdges(input);
     const int split = splitNonManifoldVertices(input);
+    const ZeroAreaRepair zeroArea = removeZeroAreaFaces(input);
     validate(input, path);
     s.remeshing = remeshMeasured(input, path, options, progress);
     s.remeshing->droppedVertices = dropped;
     s.remeshing->duplicateFaces = duplicates;
     s.remeshing->welding = welding;
     s.remeshing->splitVertices = split;
+    s.remeshing->cutEdges = cut;
+    if (cut > 0)
+      s.remeshing->warnings.push_back(
+          std::to_string(cut) +
+          " non-manifold edges (three faces or more) were cut open: the sheets that met "
+          "there are remeshed apart, touching along them");
+    s.remeshing->zeroArea = zeroArea;
+    if (zeroArea.left > 0)
+      s.remeshing->warnings.push_back(
+          std::to_string(zeroArea.left) +
+          " zero-area input faces could not be mended (no flip or collapse keeps a manifold "
+          "there): the surface has no normal there, and the remeshing may fold");
     if (!welding.refused.empty())
       s.remeshing->warnings.push_back(
           "boundary vertices at the same position were left apart: welding them fails (" +

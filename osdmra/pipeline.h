@@ -24,6 +24,7 @@
 #include "osdmra/base/progress.h"
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/mesh/zero_area.h"
 #include "osdmra/mra/approximation.h"
 #include "osdmra/mra/decomposition.h"
 #include "osdmra/mra/filter_bank.h"
@@ -54,6 +55,10 @@ struct RemeshReport {
   /// Copies made of pinched ("bowtie") vertices, one per fan after the first
   /// (splitNonManifoldVertices).
   int splitVertices = 0;
+  /// Edges of three faces or more cut open (cutNonManifoldEdges).
+  int cutEdges = 0;
+  /// Zero-area faces mended (removeZeroAreaFaces: CAD exports' caps and needles).
+  ZeroAreaRepair zeroArea;
   int requestedBaseFaces = 0;
   Remeshing result;
   SurfaceDistance distance;  ///< between result.mesh and the input (the reference)
@@ -77,9 +82,9 @@ struct LoadedSurface {
 };
 
 /// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
-/// drops unreferenced vertices, welds coincident boundary vertices, splits pinched
-/// vertices, validates and remeshes it. Throws Error naming the
-/// file and what is wrong.
+/// drops unreferenced vertices, welds coincident boundary vertices, cuts non-manifold
+/// edges open, splits pinched vertices, mends zero-area faces, validates and remeshes it. Throws
+/// Error naming the file and what is wrong.
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});
 

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <exception>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <ostream>
 #include <random>
@@ -111,6 +112,43 @@ TriMesh unitCube() {
   c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6,
       1, 3, 5, 3, 7, 5;
   return c;
+}
+
+TriMesh fannedCube(int k) {
+  std::vector<Eigen::RowVector3d> points;
+  std::map<std::array<long, 3>, int> index;
+  auto vertex = [&](const Eigen::RowVector3d& p) {
+    const std::array<long, 3> key = {std::lround(p(0) * k), std::lround(p(1) * k),
+                                     std::lround(p(2) * k)};
+    const auto [it, added] = index.emplace(key, static_cast<int>(points.size()));
+    if (added) points.push_back(p);
+    return it->second;
+  };
+  std::vector<std::array<int, 3>> faces;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      Eigen::RowVector3d o = Eigen::RowVector3d::Zero(), u = Eigen::RowVector3d::Zero(),
+                         v = Eigen::RowVector3d::Zero();
+      o(axis) = side;
+      u((axis + 1) % 3) = 1;
+      v((axis + 2) % 3) = 1;
+      if (side == 0) std::swap(u, v);  // counter-clockwise seen from outside
+      const Eigen::RowVector3d corners[4] = {o, o + u, o + u + v, o + v};
+      std::vector<int> loop;
+      for (int c = 0; c < 4; ++c)
+        for (int s = 0; s < k; ++s)
+          loop.push_back(vertex(corners[c] + (corners[(c + 1) % 4] - corners[c]) * s / k));
+      const int n = static_cast<int>(loop.size());
+      for (int i = 1; i + 1 < n; ++i)
+        faces.push_back({loop[1], loop[(1 + i) % n], loop[(2 + i) % n]});
+    }
+  TriMesh m;
+  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = points[i];
+  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    m.F.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
+  return m;
 }
 
 // ---- Orders ------------------------------------------------------------------------

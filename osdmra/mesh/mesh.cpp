@@ -1,5 +1,6 @@
 #include "osdmra/mesh/mesh.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -128,9 +129,11 @@ std::string flippedFaceMessage(const Connectivity& conn, int f) {
 }
 
 // `faces` (all of v's) grouped into fans: two faces are in one fan if they share an
-// edge at v. A manifold vertex has exactly one fan. Fans in the order of their first
-// face in `faces`, each in that order too.
-std::vector<std::vector<int>> fansAround(const Faces& F, const std::vector<int>& faces, int v) {
+// edge at v (with `cutCrowded`, an edge of two faces only). A manifold vertex has
+// exactly one fan. Fans in the order of their first face
+// in `faces`, each in that order too.
+std::vector<std::vector<int>> fansAround(const Faces& F, const std::vector<int>& faces, int v,
+                                         bool cutCrowded = false) {
   std::vector<int> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0);
   const auto find = [&](int x) {
@@ -144,12 +147,16 @@ std::vector<std::vector<int>> fansAround(const Faces& F, const std::vector<int>&
     for (int a = 0; a < 3; ++a)
       if (F(faces[i], a) != v) byNeighbour.emplace_back(F(faces[i], a), static_cast<int>(i));
   std::sort(byNeighbour.begin(), byNeighbour.end());
-  for (std::size_t k = 1; k < byNeighbour.size(); ++k)
-    if (byNeighbour[k].first == byNeighbour[k - 1].first) {
+  for (std::size_t k = 0; k < byNeighbour.size();) {
+    std::size_t end = k + 1;
+    while (end < byNeighbour.size() && byNeighbour[end].first == byNeighbour[k].first) ++end;
+    for (std::size_t i = k + 1; i < end && !(cutCrowded && end - k > 2); ++i) {
       // The earlier face stays the root, so fans come out in the order of `faces`.
-      const int a = find(byNeighbour[k].second), b = find(byNeighbour[k - 1].second);
+      const int a = find(byNeighbour[i].second), b = find(byNeighbour[i - 1].second);
       parent[std::max(a, b)] = std::min(a, b);
     }
+    k = end;
+  }
   std::vector<std::vector<int>> fans;
   std::vector<int> fanOf(faces.size(), -1);
   for (std::size_t i = 0; i < faces.size(); ++i) {
@@ -161,6 +168,37 @@ std::vector<std::vector<int>> fansAround(const Faces& F, const std::vector<int>&
     fans[fanOf[root]].push_back(faces[i]);
   }
   return fans;
+}
+
+// Every fan of each listed vertex but its first gets a copy of the vertex (at the same
+// position, with the same normal). Returns how many copies were made.
+int detachFans(TriMesh& mesh, const std::vector<int>& vertices, bool cutCrowded) {
+  const int nv = static_cast<int>(mesh.V.rows());
+  // The faces of each listed vertex, in one pass over the faces.
+  std::vector<int> slot(static_cast<std::size_t>(nv), -1);
+  for (std::size_t i = 0; i < vertices.size(); ++i) slot[vertices[i]] = static_cast<int>(i);
+  std::vector<std::vector<int>> faces(vertices.size());
+  for (int f = 0; f < static_cast<int>(mesh.F.rows()); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (slot[mesh.F(f, k)] >= 0) faces[slot[mesh.F(f, k)]].push_back(f);
+  std::vector<std::pair<int, std::vector<int>>> copies;  // (vertex, faces of the copy)
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    std::vector<std::vector<int>> fans = fansAround(mesh.F, faces[i], vertices[i], cutCrowded);
+    for (std::size_t k = 1; k < fans.size(); ++k)
+      copies.emplace_back(vertices[i], std::move(fans[k]));
+  }
+  const bool normals = mesh.N.rows() == nv;
+  mesh.V.conservativeResize(nv + static_cast<Eigen::Index>(copies.size()), 3);
+  if (normals) mesh.N.conservativeResize(mesh.V.rows(), 3);
+  for (std::size_t c = 0; c < copies.size(); ++c) {
+    const int v = copies[c].first, copy = nv + static_cast<int>(c);
+    mesh.V.row(copy) = mesh.V.row(v);
+    if (normals) mesh.N.row(copy) = mesh.N.row(v);
+    for (int f : copies[c].second)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.F(f, k) == v) mesh.F(f, k) = copy;
+  }
+  return static_cast<int>(copies.size());
 }
 
 std::string nonManifoldVertexMessage(const Faces& F, int v) {
@@ -331,7 +369,11 @@ Welding weldBoundaryVertices(TriMesh& mesh) {
   welded.F.conservativeResize(kept, 3);
   removeUnreferencedVertices(welded);
   try {
-    TriMesh split = welded;  // a pinch that welding makes is split again afterwards
+    // Pinched vertices that welding makes are split again afterwards, and edges of
+    // three faces that the input had are cut; an edge of three faces that welding would
+    // make is refused (cutting it would undo the weld).
+    TriMesh split = welded, trial = welded, unwelded = mesh;
+    if (cutNonManifoldEdges(trial) <= cutNonManifoldEdges(unwelded)) cutNonManifoldEdges(split);
     splitNonManifoldVertices(split);
     validate(split, "the welded mesh");
   } catch (const Error& e) {
@@ -377,36 +419,43 @@ int splitNonManifoldVertices(TriMesh& mesh) {
   if (conn.firstNonManifoldVertex < 0 || conn.firstNonManifoldEdgeFace >= 0 ||
       conn.firstFlippedFace >= 0)
     return 0;
-  // The faces of each non-manifold vertex, in one pass over the faces.
-  std::vector<int> slot(static_cast<std::size_t>(nv), -1), pinched;
+  std::vector<int> pinched;
   for (int v = 0; v < nv; ++v)
-    if (!conn.isManifoldVertex(v)) {
-      slot[v] = static_cast<int>(pinched.size());
-      pinched.push_back(v);
-    }
-  std::vector<std::vector<int>> faces(pinched.size());
+    if (!conn.isManifoldVertex(v)) pinched.push_back(v);
+  return detachFans(mesh, pinched, false);
+}
+
+int cutNonManifoldEdges(TriMesh& mesh) {
+  if (!wellFormed(mesh)) return 0;
+  // Every face's edges by their ends, lower first.
+  std::vector<std::array<int, 3>> edges;  // (lo, hi, face)
+  edges.reserve(3 * static_cast<std::size_t>(mesh.F.rows()));
   for (int f = 0; f < static_cast<int>(mesh.F.rows()); ++f)
-    for (int k = 0; k < 3; ++k)
-      if (slot[mesh.F(f, k)] >= 0) faces[slot[mesh.F(f, k)]].push_back(f);
-  // Every fan but the first gets a copy of the vertex.
-  std::vector<std::pair<int, std::vector<int>>> copies;  // (vertex, faces of the copy)
-  for (std::size_t i = 0; i < pinched.size(); ++i) {
-    std::vector<std::vector<int>> fans = fansAround(mesh.F, faces[i], pinched[i]);
-    for (std::size_t k = 1; k < fans.size(); ++k)
-      copies.emplace_back(pinched[i], std::move(fans[k]));
+    for (int k = 0; k < 3; ++k) {
+      const int u = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
+      edges.push_back({std::min(u, w), std::max(u, w), f});
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> ends;
+  int cut = 0;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t end = i + 1;
+    while (end < edges.size() && edges[end][0] == edges[i][0] && edges[end][1] == edges[i][1])
+      ++end;
+    if (end - i > 2) {
+      ends.push_back(edges[i][0]);
+      ends.push_back(edges[i][1]);
+      ++cut;
+    }
+    i = end;
   }
-  const bool normals = mesh.N.rows() == nv;
-  mesh.V.conservativeResize(nv + static_cast<Eigen::Index>(copies.size()), 3);
-  if (normals) mesh.N.conservativeResize(mesh.V.rows(), 3);
-  for (std::size_t c = 0; c < copies.size(); ++c) {
-    const int v = copies[c].first, copy = nv + static_cast<int>(c);
-    mesh.V.row(copy) = mesh.V.row(v);
-    if (normals) mesh.N.row(copy) = mesh.N.row(v);
-    for (int f : copies[c].second)
-      for (int k = 0; k < 3; ++k)
-        if (mesh.F(f, k) == v) mesh.F(f, k) = copy;
-  }
-  return static_cast<int>(copies.size());
+  if (cut == 0) return 0;
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  // No face is joined to another across a cut edge: each end gets a copy per fan of
+  // faces joined through its other edges.
+  detachFans(mesh, ends, true);
+  return cut;
 }
 
 }  // namespace osdmra

@@ -67,6 +67,18 @@ int removeDuplicateFaces(TriMesh& mesh);
 /// inconsistent orientation, which validate() reports.
 int splitNonManifoldVertices(TriMesh& mesh);
 
+/// Cuts open every edge shared by three faces or more (simplifiers leave them:
+/// meshoptimizer's decimation of armadillo to 3,000 faces has one): each end of such an
+/// edge gets one copy per fan of its faces joined through its other edges. Two faces
+/// of the edge that a sheet joins elsewhere (a disc through the edge) share the copies
+/// again, and a face joined to them by no other path (a fin) is cut off, the edge its
+/// boundary; sheets that meet only along the edge come apart there. The surface is the
+/// same point set. Returns how many edges were cut;
+/// validate() still refuses an edge whose faces all remain joined (three sheets
+/// through one edge that meet elsewhere). Nothing changes when the mesh has an index
+/// out of range or a repeated corner, which validate() reports.
+int cutNonManifoldEdges(TriMesh& mesh);
+
 /// Diagonal of the axis-aligned bounding box (0 for an empty mesh).
 double boundingBoxDiagonal(const Points& V);
 

@@ -35,10 +35,20 @@ std::vector<char> findFoldFaces(const TriMesh& m, const std::vector<Vec3>& faceN
 // 3,000 faces and moved by noise of a twentieth of an edge had 39 feature edges, nearly
 // all such, and kept 200 base faces of the 150 asked; now 4, and 150.)
 Vec3 sideNormal(const Connectivity& c, const std::vector<Vec3>& faceNormals,
-                const std::vector<char>& foldFace, int e) {
+                const std::vector<char>& foldFace, int e, double cosLimit) {
+  const Vec3 own = faceNormals[e / 3].normalized();
+  const Vec3 other = faceNormals[c.twin(e) / 3].normalized();
   Vec3 sum = faceNormals[e / 3];
-  for (int g : {Connectivity::next(e), Connectivity::prev(e)})
-    if (c.twin(g) >= 0 && !foldFace[c.twin(g) / 3]) sum += faceNormals[c.twin(g) / 3];
+  for (int g : {Connectivity::next(e), Connectivity::prev(e)}) {
+    const int t = c.twin(g);
+    if (t < 0 || foldFace[t / 3]) continue;
+    // A neighbour at the angle from both sides is a third side: across a cube's edge
+    // from a triangle in its corner, which would otherwise tilt both sides towards it.
+    // (A sliver's neighbours, at the angle from the sliver only, are its side's.)
+    const Vec3 across = faceNormals[t / 3].normalized();
+    if (own.dot(across) < cosLimit && other.dot(across) < cosLimit) continue;
+    sum += faceNormals[t / 3];
+  }
   return sum.normalized();
 }
 
@@ -162,8 +172,8 @@ Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySp
     if (t < h || foldFace[h / 3] || foldFace[t / 3]) continue;
     const double across = faceNormals[h / 3].normalized().dot(faceNormals[t / 3].normalized());
     if (!(across < cosLimit)) continue;  // a zero-area face makes no feature
-    const double sides =
-        sideNormal(c, faceNormals, foldFace, h).dot(sideNormal(c, faceNormals, foldFace, t));
+    const double sides = sideNormal(c, faceNormals, foldFace, h, cosLimit)
+                             .dot(sideNormal(c, faceNormals, foldFace, t, cosLimit));
     if (!(sides < cosLimit)) continue;
     sharp.insert(edgeKey(c.from(h), c.to(h)));
   }

@@ -262,7 +262,7 @@ TEST_F(Cli, SweepWritesCsvAndPlot) {
   }
 }
 
-TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
+TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   ASSERT_NO_FATAL_FAILURE(makeSurface("torus", "t.obj", "3 --displace 0.02", "t3.obj"));
   // An unreferenced vertex is dropped, not refused; so is a copy of a face (written
   // the other way round), which another tool's output made a non-manifold edge of.
@@ -353,15 +353,25 @@ TEST_F(Cli, RemeshAnyMeshAndRefuseNonManifold) {
   EXPECT_NE(split.out.find("\"split_vertices\": 1"), std::string::npos) << split.out;
   EXPECT_NE(split.err.find("(the input itself has 6 crossing pairs)"), std::string::npos)
       << split.err;
-  // Three triangles on one edge cannot be split into a manifold: refused, edge named.
+  // Three sheets on one edge: a command that takes the mesh as it is refuses it, naming
+  // the edge; the remesher cuts the edge open (one sheet per page) and says so.
   {
     std::ofstream f(path("book.obj"));
-    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 1 1 0\nv 1 -1 0\nv 1 0 1\n"
+         "f 1 2 3\nf 2 6 3\nf 2 1 4\nf 2 4 7\nf 1 2 5\nf 2 8 5\n";
   }
-  const Result bad = run("remesh " + path("book.obj") + " -o " + path("b.obj"));
+  const Result bad = run("analyze " + path("book.obj") + " -o " + path("b.mra"));
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find("edge (0, 1) is shared by 3 faces"), std::string::npos) << bad.err;
-  EXPECT_FALSE(fs::exists(path("b.obj")));
+  EXPECT_FALSE(fs::exists(path("b.mra")));
+  const Result cut =
+      run("remesh " + path("book.obj") + " --base-faces 8 --levels 2 --json -o " + path("b.obj"));
+  ASSERT_EQ(cut.status, 0) << cut.err;
+  EXPECT_NE(cut.out.find("\"non_manifold_edges_cut\": 1"), std::string::npos) << cut.out;
+  EXPECT_NE(cut.err.find("1 non-manifold edges (three faces or more) were cut open"),
+            std::string::npos)
+      << cut.err;
+  EXPECT_EQ(topology(readValidMesh(path("b.obj"))).components, 3);
 }
 
 // ---- compress / decompress ---------------------------------------------------------

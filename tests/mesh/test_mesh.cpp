@@ -293,3 +293,28 @@ TEST(Weld, ASoupWhosePinchesWeldingMakesIsWeldedThenSplit) {
   EXPECT_EQ(splitNonManifoldVertices(m), 1);
   EXPECT_NO_THROW(validate(m, "welded and split"));
 }
+
+TEST(CutNonManifoldEdges, AFinComesOffTheSurfaceItWasStuckTo) {
+  // The unit cube with a fin: a face on its edge (0, 1), a third face there. Cut open,
+  // the cube keeps its faces and vertices and the fin is a face of its own.
+  TriMesh m = unitCube();
+  m.V.conservativeResize(9, 3);
+  m.V.row(8) << 0.5, -1, -1;
+  m.F.conservativeResize(13, 3);
+  m.F.row(12) << 0, 1, 8;
+  EXPECT_THROW(validate(m, "finned cube"), Error);
+  const TriMesh cube = unitCube();
+  EXPECT_EQ(cutNonManifoldEdges(m), 1);
+  EXPECT_NO_THROW(validate(m, "cut"));
+  EXPECT_EQ(m.F.topRows(12), cube.F);
+  EXPECT_EQ(m.V.topRows(8), cube.V);
+  ASSERT_EQ(m.V.rows(), 11);  // the fin's copies of vertices 0 and 1
+  EXPECT_EQ(m.V.row(9), cube.V.row(0));
+  EXPECT_EQ(m.V.row(10), cube.V.row(1));
+  EXPECT_EQ(topology(m).components, 2);
+  EXPECT_EQ(topology(m).boundaryLoops, 1);
+  // Nothing else to cut: a second call changes nothing.
+  const TriMesh once = m;
+  EXPECT_EQ(cutNonManifoldEdges(m), 0);
+  EXPECT_EQ(m.F, once.F);
+}

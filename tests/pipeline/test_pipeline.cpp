@@ -287,3 +287,63 @@ TEST(LoadSurface, RemeshesAnyManifoldMesh) {
   EXPECT_LT(maxDifference(a.reconstruct(a.decomposition(), 3).V, s.mesh.V),
             1e-12 * boundingBoxDiagonal(s.mesh.V));
 }
+
+TEST(LoadSurface, MendsZeroAreaFacesBeforeRemeshing) {
+  // A cube as CAD exports write it, each side fanned from a point of its first edge:
+  // 12 zero-area caps, and every vertex on a sharp edge. Mended (removeZeroAreaFaces),
+  // every cube edge is a feature line (48 segments) and the remesh is the cube itself.
+  // Before the caps were mended (2026-11-26) the cube had 27 feature edges, its base
+  // stopped at 64 faces for the 30 asked, the clean-up moved 2,027 grid points and the
+  // result was 0.52% of the diagonal from the cube; with the caps mended but corner
+  // triangles' sides measured across the cube's edges (features.h), 36 and 42 faces.
+  TempDir dir;
+  const std::string path = dir.file("cube.off");
+  writeMesh(path, fannedCube(4));
+  InputOptions options;
+  options.remesh = true;
+  options.remeshing.baseFaces = 30;
+  options.remeshing.levels = 3;
+  options.distance.samples = 5000;
+  const LoadedSurface s = loadSurface(path, options);
+  const RemeshReport& r = *s.remeshing;
+  EXPECT_EQ(r.zeroArea.flipped, 12);
+  EXPECT_EQ(r.zeroArea.left, 0);
+  EXPECT_EQ(r.result.featureEdges, 48);
+  EXPECT_LE(r.result.base.F.rows(), 30);
+  EXPECT_GT(r.result.base.F.rows(), 27);
+  EXPECT_EQ(r.result.flippedTriangles + r.result.degenerateTriangles + r.result.selfIntersections,
+            0);
+  EXPECT_LT(r.distance.hausdorffRelative, 1e-12);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(LoadSurface, CutsNonManifoldEdgesOpenBeforeRemeshing) {
+  // A cube refined twice (linear) with a fin on one of its edges: the edge has three
+  // faces, which validate() refuses. With the remesher the edge is cut open, the fin
+  // is remeshed apart, and a warning says so.
+  TriMesh m = subdivide(unitCube(), 2, Scheme::Linear);
+  const int a = m.F(0, 0), b = m.F(0, 1), n = static_cast<int>(m.V.rows());
+  m.V.conservativeResize(n + 1, 3);
+  m.V.row(n) = 0.5 * (m.V.row(a) + m.V.row(b)) + Eigen::RowVector3d(0.3, -0.4, 0.5);
+  m.F.conservativeResize(m.F.rows() + 1, 3);
+  m.F.row(m.F.rows() - 1) << a, b, n;
+  TempDir dir;
+  const std::string path = dir.file("finned.obj");
+  writeMesh(path, m);
+  EXPECT_THROW(loadSurface(path), Error);
+  InputOptions options;
+  options.remesh = true;
+  options.remeshing.baseFaces = 60;
+  options.remeshing.levels = 2;
+  options.distance.samples = 5000;
+  const LoadedSurface s = loadSurface(path, options);
+  const RemeshReport& r = *s.remeshing;
+  EXPECT_EQ(r.cutEdges, 1);
+  EXPECT_NO_THROW(validate(s.mesh, "remeshed"));
+  EXPECT_EQ(topology(s.mesh).components, 2);
+  EXPECT_LT(r.distance.hausdorffRelative, 1e-12);
+  bool said = false;
+  for (const std::string& w : r.warnings)
+    said = said || w.find("were cut open") != std::string::npos;
+  EXPECT_TRUE(said);
+}
