@@ -40,6 +40,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("welded_faces_dropped", r.welding.faces)
       .add("split_vertices", r.splitVertices)
       .add("non_manifold_edges_cut", r.cutEdges)
+      .add("reoriented_faces", r.reorientedFaces)
       .add("zero_area_faces", Json::object()
                                   .add("flipped", r.zeroArea.flipped)
                                   .add("dropped", r.zeroArea.dropped)

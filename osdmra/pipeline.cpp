@@ -97,6 +97,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     const int duplicates = removeDuplicateFaces(input);
     const Welding welding = weldBoundaryVertices(input);
     const int cut = cutNonManifoldEdges(input);
+    const int reoriented = orientConsistently(input);
     const int split = splitNonManifoldVertices(input);
     const ZeroAreaRepair zeroArea = removeZeroAreaFaces(input);
     validate(input, path);
@@ -106,6 +107,12 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     s.remeshing->welding = welding;
     s.remeshing->splitVertices = split;
     s.remeshing->cutEdges = cut;
+    s.remeshing->reorientedFaces = reoriented;
+    if (reoriented > 0)
+      s.remeshing->warnings.push_back(
+          std::to_string(reoriented) +
+          " faces were reversed to agree with their neighbours' winding (the winding most "
+          "faces of each component had is kept)");
     if (cut > 0)
       s.remeshing->warnings.push_back(
           std::to_string(cut) +

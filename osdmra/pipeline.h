@@ -57,6 +57,8 @@ struct RemeshReport {
   int splitVertices = 0;
   /// Edges of three faces or more cut open (cutNonManifoldEdges).
   int cutEdges = 0;
+  /// Faces reversed to agree with their neighbours (orientConsistently).
+  int reorientedFaces = 0;
   /// Zero-area faces mended (removeZeroAreaFaces: CAD exports' caps and needles).
   ZeroAreaRepair zeroArea;
   int requestedBaseFaces = 0;
@@ -83,8 +85,8 @@ struct LoadedSurface {
 
 /// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
 /// drops unreferenced vertices, welds coincident boundary vertices, cuts non-manifold
-/// edges open, splits pinched vertices, mends zero-area faces, validates and remeshes it. Throws
-/// Error naming the file and what is wrong.
+/// edges open, orients the faces consistently, splits pinched vertices, mends zero-area faces,
+/// validates and remeshes it. Throws Error naming the file and what is wrong.
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <exception>
 #include <fstream>
 #include <map>
@@ -148,6 +149,28 @@ TriMesh fannedCube(int k) {
   m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
   for (std::size_t f = 0; f < faces.size(); ++f)
     m.F.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
+  return m;
+}
+
+TriMesh moebiusStrip(int n) {
+  TriMesh m;
+  m.V.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n, t = a / 2;
+    for (int s = 0; s < 2; ++s) {
+      const double w = s == 0 ? -0.3 : 0.3;
+      m.V.row(2 * i + s) << (1 + w * std::cos(t)) * std::cos(a),
+          (1 + w * std::cos(t)) * std::sin(a), w * std::sin(t);
+    }
+  }
+  m.F.resize(2 * n, 3);
+  for (int i = 0; i < n; ++i) {
+    const int a0 = 2 * i, a1 = 2 * i + 1;
+    // The last quad joins the strip's two sides crossed: the half twist.
+    const int b0 = i + 1 < n ? 2 * i + 2 : 1, b1 = i + 1 < n ? 2 * i + 3 : 0;
+    m.F.row(2 * i) << a0, b0, b1;
+    m.F.row(2 * i + 1) << a0, b1, a1;
+  }
   return m;
 }
 

@@ -77,6 +77,10 @@ TriMesh unitCube();
 /// k = 4). Every side's loop runs counter-clockwise seen from outside.
 TriMesh fannedCube(int k);
 
+/// A Moebius strip of n quads (2 n triangles) closed with a half twist: every face
+/// agrees with its neighbours' winding but at the twist, which no winding mends.
+TriMesh moebiusStrip(int n);
+
 // ---- Orders ------------------------------------------------------------------------
 
 /// A random permutation of 0..n-1 (std::shuffle of the identity with mt19937_64(seed)).

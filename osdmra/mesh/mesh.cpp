@@ -374,6 +374,7 @@ Welding weldBoundaryVertices(TriMesh& mesh) {
     // make is refused (cutting it would undo the weld).
     TriMesh split = welded, trial = welded, unwelded = mesh;
     if (cutNonManifoldEdges(trial) <= cutNonManifoldEdges(unwelded)) cutNonManifoldEdges(split);
+    orientConsistently(split);
     splitNonManifoldVertices(split);
     validate(split, "the welded mesh");
   } catch (const Error& e) {
@@ -456,6 +457,68 @@ int cutNonManifoldEdges(TriMesh& mesh) {
   // faces joined through its other edges.
   detachFans(mesh, ends, true);
   return cut;
+}
+
+int orientConsistently(TriMesh& mesh) {
+  if (!wellFormed(mesh)) return 0;
+  const int nf = static_cast<int>(mesh.F.rows());
+  // Faces by undirected edge, with the way each runs it.
+  std::vector<std::array<int, 4>> edges;  // (lo, hi, face, runs lo -> hi)
+  edges.reserve(3 * static_cast<std::size_t>(nf));
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int u = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
+      edges.push_back({std::min(u, w), std::max(u, w), f, u < w});
+    }
+  std::sort(edges.begin(), edges.end());
+  // Neighbours across edges of exactly two faces, and whether the pair agrees.
+  std::vector<std::vector<std::pair<int, bool>>> across(static_cast<std::size_t>(nf));
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t end = i + 1;
+    while (end < edges.size() && edges[end][0] == edges[i][0] && edges[end][1] == edges[i][1])
+      ++end;
+    if (end - i > 2) return 0;  // cutNonManifoldEdges first; validate() reports it
+    if (end - i == 2) {
+      const int f = edges[i][2], g = edges[i + 1][2];
+      const bool agree = edges[i][3] != edges[i + 1][3];
+      across[f].emplace_back(g, agree);
+      across[g].emplace_back(f, agree);
+    }
+    i = end;
+  }
+  // Each component from its first face: a neighbour that disagrees is reversed once.
+  // A contradiction (a Moebius strip) leaves the mesh as it was.
+  std::vector<signed char> reversed(static_cast<std::size_t>(nf), -1);
+  std::vector<int> stack;
+  std::vector<int> flips;
+  for (int start = 0; start < nf; ++start) {
+    if (reversed[start] >= 0) continue;
+    std::vector<int> component = {start};
+    reversed[start] = 0;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (const auto& [g, agree] : across[f]) {
+        const signed char want = static_cast<signed char>(agree ? reversed[f] : 1 - reversed[f]);
+        if (reversed[g] < 0) {
+          reversed[g] = want;
+          component.push_back(g);
+          stack.push_back(g);
+        } else if (reversed[g] != want) {
+          return 0;  // not orientable
+        }
+      }
+    }
+    // Keep the orientation most of the component's faces have.
+    std::size_t count = 0;
+    for (int f : component) count += reversed[f];
+    const bool invert = 2 * count > component.size();
+    for (int f : component)
+      if ((reversed[f] != 0) != invert) flips.push_back(f);
+  }
+  for (int f : flips) std::swap(mesh.F(f, 1), mesh.F(f, 2));
+  return static_cast<int>(flips.size());
 }
 
 }  // namespace osdmra

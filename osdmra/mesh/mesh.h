@@ -79,6 +79,15 @@ int splitNonManifoldVertices(TriMesh& mesh);
 /// out of range or a repeated corner, which validate() reports.
 int cutNonManifoldEdges(TriMesh& mesh);
 
+/// Reverses the faces whose winding disagrees with their neighbours' (meshes assembled
+/// from parts, or exported by tools that do not keep a winding, have some), so that
+/// every edge of two faces is run both ways; in each connected component the winding
+/// most of its faces have is kept. Returns how many faces were reversed. Nothing changes
+/// when a component cannot be oriented (a Moebius strip), when an edge has three faces
+/// (cutNonManifoldEdges first), or when the mesh has an index out of range or a
+/// repeated corner: validate() reports those.
+int orientConsistently(TriMesh& mesh);
+
 /// Diagonal of the axis-aligned bounding box (0 for an empty mesh).
 double boundingBoxDiagonal(const Points& V);
 

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/subdivision/shapes.h"
 #include "support.h"
 
 using namespace osdmra;
@@ -317,4 +319,32 @@ TEST(CutNonManifoldEdges, AFinComesOffTheSurfaceItWasStuckTo) {
   const TriMesh once = m;
   EXPECT_EQ(cutNonManifoldEdges(m), 0);
   EXPECT_EQ(m.F, once.F);
+}
+
+TEST(OrientConsistently, ReversedFacesAgreeWithTheirNeighboursAgain) {
+  const TriMesh sphere = subdivide(shapes::icosahedron(), 2, Scheme::Loop);
+  TriMesh m = sphere;
+  int reversed = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); f += 7, ++reversed) std::swap(m.F(f, 1), m.F(f, 2));
+  EXPECT_THROW(validate(m, "mixed"), Error);
+  EXPECT_EQ(orientConsistently(m), reversed);
+  EXPECT_EQ(m.F, sphere.F);  // most faces kept theirs, so the sphere's outward winding
+  EXPECT_EQ(orientConsistently(m), 0);
+  // Most faces reversed: the component takes their winding.
+  TriMesh inverted = sphere;
+  for (Eigen::Index f = 0; f < inverted.F.rows(); ++f)
+    if (f % 7 != 0) std::swap(inverted.F(f, 1), inverted.F(f, 2));
+  orientConsistently(inverted);
+  EXPECT_NO_THROW(validate(inverted, "inverted"));
+  for (Eigen::Index f = 0; f < inverted.F.rows(); ++f)
+    EXPECT_EQ(inverted.F.row(f),
+              Eigen::RowVector3i(sphere.F(f, 0), sphere.F(f, 2), sphere.F(f, 1)));
+}
+
+TEST(OrientConsistently, AMoebiusStripIsLeftAsItIs) {
+  TriMesh m = moebiusStrip(8);
+  const TriMesh before = m;
+  EXPECT_EQ(orientConsistently(m), 0);
+  EXPECT_EQ(m.F, before.F);
+  EXPECT_THROW(validate(m, "Moebius strip"), Error);
 }

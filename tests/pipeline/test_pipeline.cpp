@@ -62,13 +62,17 @@ TEST(LoadSurface, ErrorsNameTheFile) {
   InputOptions remeshing;
   remeshing.remesh = true;
   expectContains(errorOf([&] { loadSurface(missing, remeshing); }), {missing, "cannot open"});
-  // An invalid mesh: a flipped face, named by the file, remeshed or not.
+  // An invalid mesh, named by the file: a flipped face (which the remesher's repairs
+  // turn back), a Moebius strip (which nothing orients).
   TriMesh flipped = cornerTetrahedron();
   std::swap(flipped.F(3, 1), flipped.F(3, 2));
   const std::string path = dir.file("flipped.obj");
   writeMesh(path, flipped);
   expectContains(errorOf([&] { loadSurface(path); }), {path + ": ", "face 3"});
-  expectContains(errorOf([&] { loadSurface(path, remeshing); }), {path + ": ", "face 3"});
+  const std::string strip = dir.file("moebius.obj");
+  writeMesh(strip, moebiusStrip(8));
+  expectContains(errorOf([&] { loadSurface(strip, remeshing); }),
+                 {strip + ": ", "oriented inconsistently"});
   // Options the remesher refuses, named by the file and the option.
   writeMesh(path, subdivide(shapes::icosahedron(), 1, Scheme::Loop));
   remeshing.remeshing.baseFaces = 2;
