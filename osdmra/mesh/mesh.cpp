@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -426,29 +427,44 @@ int splitNonManifoldVertices(TriMesh& mesh) {
   return detachFans(mesh, pinched, false);
 }
 
+namespace {
+
+// Every halfedge h = 3 f + k (face f's edge from corner k to k + 1) keyed by its ends,
+// lower first, sorted by key (then by h): the halfedges of one undirected edge are
+// consecutive. For passes that must see edges of any number of faces, which
+// Connectivity does not build.
+std::vector<std::pair<std::uint64_t, int>> halfedgesByEdge(const Faces& F) {
+  std::vector<std::pair<std::uint64_t, int>> out(3 * static_cast<std::size_t>(F.rows()));
+  for (int h = 0; h < static_cast<int>(out.size()); ++h) {
+    const auto u = static_cast<std::uint32_t>(F(h / 3, h % 3)),
+               w = static_cast<std::uint32_t>(F(h / 3, (h % 3 + 1) % 3));
+    out[h] = {std::uint64_t{std::min(u, w)} << 32 | std::max(u, w), h};
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The end of the run of halfedges on the same edge as sorted[i].
+std::size_t runEnd(const std::vector<std::pair<std::uint64_t, int>>& sorted, std::size_t i) {
+  std::size_t end = i + 1;
+  while (end < sorted.size() && sorted[end].first == sorted[i].first) ++end;
+  return end;
+}
+
+}  // namespace
+
 int cutNonManifoldEdges(TriMesh& mesh) {
   if (!wellFormed(mesh)) return 0;
-  // Every face's edges by their ends, lower first.
-  std::vector<std::array<int, 3>> edges;  // (lo, hi, face)
-  edges.reserve(3 * static_cast<std::size_t>(mesh.F.rows()));
-  for (int f = 0; f < static_cast<int>(mesh.F.rows()); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int u = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
-      edges.push_back({std::min(u, w), std::max(u, w), f});
-    }
-  std::sort(edges.begin(), edges.end());
+  const std::vector<std::pair<std::uint64_t, int>> edges = halfedgesByEdge(mesh.F);
   std::vector<int> ends;
   int cut = 0;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t end = i + 1;
-    while (end < edges.size() && edges[end][0] == edges[i][0] && edges[end][1] == edges[i][1])
-      ++end;
+  for (std::size_t i = 0, end; i < edges.size(); i = end) {
+    end = runEnd(edges, i);
     if (end - i > 2) {
-      ends.push_back(edges[i][0]);
-      ends.push_back(edges[i][1]);
+      ends.push_back(static_cast<int>(edges[i].first >> 32));
+      ends.push_back(static_cast<int>(edges[i].first & 0xffffffffu));
       ++cut;
     }
-    i = end;
   }
   if (cut == 0) return 0;
   std::sort(ends.begin(), ends.end());
@@ -462,45 +478,40 @@ int cutNonManifoldEdges(TriMesh& mesh) {
 int orientConsistently(TriMesh& mesh) {
   if (!wellFormed(mesh)) return 0;
   const int nf = static_cast<int>(mesh.F.rows());
-  // Faces by undirected edge, with the way each runs it.
-  std::vector<std::array<int, 4>> edges;  // (lo, hi, face, runs lo -> hi)
-  edges.reserve(3 * static_cast<std::size_t>(nf));
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int u = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
-      edges.push_back({std::min(u, w), std::max(u, w), f, u < w});
-    }
-  std::sort(edges.begin(), edges.end());
-  // Neighbours across edges of exactly two faces, and whether the pair agrees.
-  std::vector<std::vector<std::pair<int, bool>>> across(static_cast<std::size_t>(nf));
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t end = i + 1;
-    while (end < edges.size() && edges[end][0] == edges[i][0] && edges[end][1] == edges[i][1])
-      ++end;
+  // The halfedge across each one (-1 on the boundary), and whether the two agree (run
+  // their edge opposite ways).
+  const std::vector<std::pair<std::uint64_t, int>> edges = halfedgesByEdge(mesh.F);
+  std::vector<int> twin(3 * static_cast<std::size_t>(nf), -1);
+  std::vector<char> agrees(twin.size(), 1);
+  bool disagreement = false;
+  for (std::size_t i = 0, end; i < edges.size(); i = end) {
+    end = runEnd(edges, i);
     if (end - i > 2) return 0;  // cutNonManifoldEdges first; validate() reports it
-    if (end - i == 2) {
-      const int f = edges[i][2], g = edges[i + 1][2];
-      const bool agree = edges[i][3] != edges[i + 1][3];
-      across[f].emplace_back(g, agree);
-      across[g].emplace_back(f, agree);
-    }
-    i = end;
+    if (end - i < 2) continue;
+    const int h = edges[i].second, g = edges[i + 1].second;
+    twin[h] = g;
+    twin[g] = h;
+    agrees[h] = agrees[g] = mesh.F(h / 3, h % 3) != mesh.F(g / 3, g % 3);
+    disagreement = disagreement || !agrees[h];
   }
+  if (!disagreement) return 0;
   // Each component from its first face: a neighbour that disagrees is reversed once.
   // A contradiction (a Moebius strip) leaves the mesh as it was.
   std::vector<signed char> reversed(static_cast<std::size_t>(nf), -1);
-  std::vector<int> stack;
-  std::vector<int> flips;
+  std::vector<int> stack, component, flips;
   for (int start = 0; start < nf; ++start) {
     if (reversed[start] >= 0) continue;
-    std::vector<int> component = {start};
+    component.assign(1, start);
     reversed[start] = 0;
     stack.assign(1, start);
     while (!stack.empty()) {
       const int f = stack.back();
       stack.pop_back();
-      for (const auto& [g, agree] : across[f]) {
-        const signed char want = static_cast<signed char>(agree ? reversed[f] : 1 - reversed[f]);
+      for (int h = 3 * f; h < 3 * f + 3; ++h) {
+        if (twin[h] < 0) continue;
+        const int g = twin[h] / 3;
+        const signed char want =
+            static_cast<signed char>(agrees[h] ? reversed[f] : 1 - reversed[f]);
         if (reversed[g] < 0) {
           reversed[g] = want;
           component.push_back(g);
