@@ -36,6 +36,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("input_faces", r.inputFaces)
       .add("unreferenced_vertices_dropped", r.droppedVertices)
       .add("duplicate_faces_dropped", r.duplicateFaces)
+      .add("repeated_corner_faces_dropped", r.repeatedCornerFaces)
       .add("welded_vertices", r.welding.vertices)
       .add("welded_faces_dropped", r.welding.faces)
       .add("split_vertices", r.splitVertices)

@@ -93,6 +93,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     s.mesh = readValidMesh(path);
   } else {
     TriMesh input = readMesh(path);
+    const int repeated = removeFacesWithRepeatedCorners(input);
     const int dropped = removeUnreferencedVertices(input);
     const int duplicates = removeDuplicateFaces(input);
     const Welding welding = weldBoundaryVertices(input);
@@ -104,6 +105,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     s.remeshing = remeshMeasured(input, path, options, progress);
     s.remeshing->droppedVertices = dropped;
     s.remeshing->duplicateFaces = duplicates;
+    s.remeshing->repeatedCornerFaces = repeated;
     s.remeshing->welding = welding;
     s.remeshing->splitVertices = split;
     s.remeshing->cutEdges = cut;

@@ -49,6 +49,8 @@ struct RemeshReport {
   int inputVertices = 0, inputFaces = 0;  ///< after dropping and welding vertices
   int droppedVertices = 0;                ///< unreferenced input vertices dropped
   int duplicateFaces = 0;  ///< copies of earlier faces dropped (removeDuplicateFaces)
+  /// Faces naming one vertex twice, dropped (removeFacesWithRepeatedCorners).
+  int repeatedCornerFaces = 0;
   /// Coincident boundary vertices merged first (weldBoundaryVertices: a triangle soup,
   /// a mesh split along texture seams).
   Welding welding;
@@ -84,9 +86,9 @@ struct LoadedSurface {
 };
 
 /// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
-/// drops unreferenced vertices, welds coincident boundary vertices, cuts non-manifold
-/// edges open, orients the faces consistently, splits pinched vertices, mends zero-area faces,
-/// validates and remeshes it. Throws Error naming the file and what is wrong.
+/// drops faces naming a vertex twice and unreferenced vertices, welds coincident boundary vertices,
+/// cuts non-manifold edges open, orients the faces consistently, splits pinched vertices, mends
+/// zero-area faces, validates and remeshes it. Throws Error naming the file and what is wrong.
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});
 

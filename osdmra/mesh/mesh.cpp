@@ -388,6 +388,20 @@ Welding weldBoundaryVertices(TriMesh& mesh) {
   return out;
 }
 
+int removeFacesWithRepeatedCorners(TriMesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows();
+  Eigen::Index kept = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
+    const bool inRange = a >= 0 && a < nv && b >= 0 && b < nv && c >= 0 && c < nv;
+    if (inRange && (a == b || b == c || c == a)) continue;
+    mesh.F.row(kept++) = mesh.F.row(f);
+  }
+  const int dropped = static_cast<int>(mesh.F.rows() - kept);
+  mesh.F.conservativeResize(kept, 3);
+  return dropped;
+}
+
 int removeDuplicateFaces(TriMesh& mesh) {
   if (!wellFormed(mesh)) return 0;
   // A face's key: its corners sorted, so that either orientation matches.

@@ -52,6 +52,11 @@ struct Welding {
 /// validate() reports.
 Welding weldBoundaryVertices(TriMesh& mesh);
 
+/// Drops every face that names one vertex twice (a segment or a point, not a triangle:
+/// exporters write them for collapsed geometry); returns how many were dropped. Faces
+/// with an index out of range are kept, for validate() to report.
+int removeFacesWithRepeatedCorners(TriMesh& mesh);
+
 /// Drops every face whose three corners are those of an earlier face, in either
 /// orientation (simplifiers and exporters leave such copies; the copy makes each of
 /// its edges non-manifold, and one of two back-to-back faces adds nothing to the

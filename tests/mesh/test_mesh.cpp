@@ -348,3 +348,19 @@ TEST(OrientConsistently, AMoebiusStripIsLeftAsItIs) {
   EXPECT_EQ(m.F, before.F);
   EXPECT_THROW(validate(m, "Moebius strip"), Error);
 }
+
+TEST(RepeatedCorners, FacesNamingAVertexTwiceGoAndTheRestStay) {
+  TriMesh m = cornerTetrahedron();
+  const Faces faces = m.F;
+  m.F.conservativeResize(7, 3);
+  m.F.row(4) << 1, 1, 2;  // a segment
+  m.F.row(5) << 3, 3, 3;  // a point
+  m.F.row(6) << 0, 9, 9;  // out of range: kept for validate() to name
+  EXPECT_EQ(removeFacesWithRepeatedCorners(m), 2);
+  ASSERT_EQ(m.F.rows(), 5);
+  EXPECT_EQ(m.F.topRows(4), faces);
+  EXPECT_EQ(m.F.row(4), Eigen::RowVector3i(0, 9, 9));
+  m.F.conservativeResize(4, 3);
+  EXPECT_EQ(removeFacesWithRepeatedCorners(m), 0);
+  EXPECT_NO_THROW(validate(m, "tetrahedron"));
+}
