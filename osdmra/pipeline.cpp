@@ -92,7 +92,10 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
   if (!options.remesh) {
     s.mesh = readValidMesh(path);
   } else {
-    TriMesh input = readMesh(path);
+    // The remesher takes quad and polygon meshes too, as fans of triangles.
+    ReadOptions reading;
+    reading.triangulate = true;
+    TriMesh input = readMesh(path, reading);
     const int repeated = removeFacesWithRepeatedCorners(input);
     const int dropped = removeUnreferencedVertices(input);
     const int duplicates = removeDuplicateFaces(input);

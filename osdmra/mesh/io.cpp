@@ -30,19 +30,20 @@ MeshFormat meshFormatFromPath(const std::string& path) {
        "; expected .obj, .off or .ply");
 }
 
-TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source) {
+TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source,
+                 const ReadOptions& options) {
   switch (format) {
     case MeshFormat::Obj:
-      return readObj(in, source);
+      return readObj(in, source, options);
     case MeshFormat::Off:
-      return readOff(in, source);
+      return readOff(in, source, options);
     case MeshFormat::Ply:
-      return readPly(in, source);
+      return readPly(in, source, options);
   }
   fail(source + ": unknown mesh format");
 }
 
-TriMesh readMesh(const std::string& path) {
+TriMesh readMesh(const std::string& path, const ReadOptions& options) {
   const MeshFormat format = meshFormatFromPath(path);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) fail(path + ": is a directory, not a mesh file");
@@ -50,7 +51,7 @@ TriMesh readMesh(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path + ": cannot open: " + (errno ? std::strerror(errno) : "unknown error"));
   try {
-    return readMesh(in, format, path);
+    return readMesh(in, format, path, options);
   } catch (const Error& e) {
     // LineReader reports bare "read error"s; give them the file.
     if (std::string_view(e.what()).rfind(path, 0) == 0) throw;

@@ -18,6 +18,8 @@
 // against the bytes that remain before anything is reserved (when the stream is
 // seekable; otherwise storage grows only as data actually arrives).
 //
+// With ReadOptions::triangulate, polygons are read as fans of triangles instead.
+//
 // Formats, as read:
 //   OBJ  v (x y z, extra w or colour values ignored), vn, f with v, v/t, v/t/n and
 //        v//n corners, negative (relative) indices, '\' line continuations. vt and
@@ -61,6 +63,15 @@ enum class PlyEncoding {
   Ascii,               ///< human-readable, still exact (shortest round-trip decimals)
 };
 
+struct ReadOptions {
+  /// Polygons of more than three corners become the fan of triangles from their first
+  /// corner instead of an error (the remesher takes quad and polygon meshes so; a fan
+  /// is the polygon's own surface when the polygon is planar and convex, as exporters'
+  /// quads and CAD faces are). Off by default: subdivision connectivity is a triangle
+  /// mesh's, and analysing a quad mesh as triangles would find none.
+  bool triangulate = false;
+};
+
 struct WriteOptions {
   PlyEncoding plyEncoding = PlyEncoding::BinaryLittleEndian;
   /// Write TriMesh::N (OBJ vn + f a//a b//b c//c, PLY nx ny nz, OFF as NOFF) when
@@ -72,7 +83,7 @@ struct WriteOptions {
 
 /// Reads the mesh at `path`, format chosen by its extension. Messages name `path`.
 /// Does not run validate(): see readValidMesh.
-TriMesh readMesh(const std::string& path);
+TriMesh readMesh(const std::string& path, const ReadOptions& options = {});
 
 /// readMesh followed by validate(mesh, path): the mesh is a valid subdivision
 /// domain (manifold, consistently oriented, no isolated vertices) or this throws.
@@ -89,10 +100,11 @@ void writeMesh(const std::string& path, const TriMesh& mesh, const WriteOptions&
 // `source` is the name used in error messages (a file name, "<stdin>", ...).
 // Streams for binary PLY must be opened in binary mode.
 
-TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source);
-TriMesh readObj(std::istream& in, const std::string& source);
-TriMesh readOff(std::istream& in, const std::string& source);
-TriMesh readPly(std::istream& in, const std::string& source);
+TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source,
+                 const ReadOptions& options = {});
+TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& options = {});
+TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& options = {});
+TriMesh readPly(std::istream& in, const std::string& source, const ReadOptions& options = {});
 
 /// Writers throw Error on an invalid mesh (see writeMesh) or a failed stream.
 void writeMesh(std::ostream& out, MeshFormat format, const TriMesh& mesh,

@@ -61,7 +61,7 @@ long long resolveObjIndex(std::string_view token, long long count, const char* w
 
 }  // namespace
 
-TriMesh readObj(std::istream& in, const std::string& source) {
+TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& options) {
   requireNotEmpty(in, source);
   std::vector<double> V, VN;
   std::vector<int> F, cornerNormal;  // cornerNormal: normal index per corner, -1 if none
@@ -69,6 +69,7 @@ TriMesh readObj(std::istream& in, const std::string& source) {
   // references, rare but legal) are checked once the whole file is read.
   std::vector<std::pair<std::size_t, long long>> forwardRefs;  // (face, line)
   long long numTexCoords = 0;
+  std::vector<std::pair<int, int>> corners;  // of the face being read: (vertex, normal)
 
   LineReader lines(in);
   std::string line, continued;
@@ -108,16 +109,15 @@ TriMesh readObj(std::istream& in, const std::string& source) {
       V.insert(V.end(), xyz.begin(), xyz.end());
     } else if (key == "f") {
       const std::size_t n = tokens.size() - 1;
-      if (n > 3)
+      if (n > 3 && !options.triangulate)
         fail(where() + "face has " + std::to_string(n) +
              " vertices; osdmra needs triangles (triangulate the mesh first)");
       if (n < 3) fail(where() + "face has " + std::to_string(n) + " vertices; a face needs 3");
       const long long numV = static_cast<long long>(V.size() / 3);
       const long long numN = static_cast<long long>(VN.size() / 3);
-      const std::size_t face = F.size() / 3;
-      if (face >= static_cast<std::size_t>(kMaxIndex / 3)) fail(where() + "too many faces");
       bool forward = false;
-      for (std::size_t c = 1; c <= 3; ++c) {
+      corners.clear();
+      for (std::size_t c = 1; c <= n; ++c) {
         // Corner forms: v, v/t, v/t/n, v//n.
         std::array<std::string_view, 3> parts{};
         std::size_t numParts = 0;
@@ -139,10 +139,18 @@ TriMesh readObj(std::istream& in, const std::string& source) {
           vn = resolveObjIndex(parts[2], numN, "normal", source, lineNo);
           forward = forward || vn >= numN;
         }
-        F.push_back(static_cast<int>(v));
-        cornerNormal.push_back(static_cast<int>(vn));
+        corners.emplace_back(static_cast<int>(v), static_cast<int>(vn));
       }
-      if (forward) forwardRefs.emplace_back(face, lineNo);
+      // A polygon (with ReadOptions::triangulate) is the fan from its first corner.
+      for (std::size_t k = 1; k + 1 < n; ++k) {
+        const std::size_t face = F.size() / 3;
+        if (face >= static_cast<std::size_t>(kMaxIndex / 3)) fail(where() + "too many faces");
+        for (const std::size_t c : {std::size_t{0}, k, k + 1}) {
+          F.push_back(corners[c].first);
+          cornerNormal.push_back(corners[c].second);
+        }
+        if (forward) forwardRefs.emplace_back(face, lineNo);
+      }
     } else if (key == "vt") {
       ++numTexCoords;
     } else if (isIgnoredObjStatement(key)) {

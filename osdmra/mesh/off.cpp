@@ -21,7 +21,7 @@ namespace osdmra {
 
 using namespace detail;
 
-TriMesh readOff(std::istream& in, const std::string& source) {
+TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& options) {
   requireNotEmpty(in, source);
   LineReader lines(in);
   std::string line;
@@ -118,20 +118,24 @@ TriMesh readOff(std::istream& in, const std::string& source) {
     };
     long long count = 0;
     if (!parseInt(tokens[0], count)) fail(where() + "bad vertex count " + quote(tokens[0]));
-    if (count != 3)
+    if (count < 3 || (count > 3 && !options.triangulate))
       fail(where() + "has " + std::to_string(count) + " vertices; osdmra needs triangles" +
            (count > 3 ? " (triangulate the mesh first)" : ""));
-    if (tokens.size() < 4)
-      fail(where() + "expected 3 vertex indices, found " + std::to_string(tokens.size() - 1));
-    for (std::size_t c = 1; c <= 3; ++c) {
+    if (static_cast<long long>(tokens.size()) - 1 < count)
+      fail(where() + "expected " + std::to_string(count) + " vertex indices, found " +
+           std::to_string(tokens.size() - 1));
+    int first = -1, previous = -1;
+    for (long long c = 1; c <= count; ++c) {
       long long index = 0;
       if (!parseInt(tokens[c], index)) fail(where() + "bad vertex index " + quote(tokens[c]));
       if (index < 0 || index >= numV)
         fail(where() + "vertex index " + std::to_string(index) + " is out of range (the file has " +
              std::to_string(numV) + " vertices)");
-      F.push_back(static_cast<int>(index));
+      // A polygon (with ReadOptions::triangulate) is the fan from its first corner.
+      if (c >= 3) F.insert(F.end(), {first, previous, static_cast<int>(index)});
+      (c == 1 ? first : previous) = static_cast<int>(index);
     }
-    // Anything after the three indices is a face colour: ignored.
+    // Anything after the indices is a face colour: ignored.
   }
   if (nextContent())
     fail(at(source, lines.line()) + "unexpected data after the last of " + std::to_string(numF) +

@@ -436,7 +436,7 @@ class PlyAsciiSource : public PlyDataSource {
 };
 
 template <class Source>
-TriMesh readPlyData(Source& src, const PlyHeader& header,
+TriMesh readPlyData(Source& src, const PlyHeader& header, const ReadOptions& options,
                     const std::optional<std::uint64_t>& remaining) {
   std::uint64_t numV = 0;
   bool hasNormals = false;
@@ -462,15 +462,20 @@ TriMesh readPlyData(Source& src, const PlyHeader& header,
       for (const PlyProperty& p : e.properties) {
         if (p.role == PlyRole::FaceIndices) {
           const long long n = src.readInt(p.countType);
-          if (n != 3)
+          if (n < 3 || (n > 3 && !options.triangulate))
             src.error("has " + std::to_string(n) + " vertices; osdmra needs triangles" +
                       (n > 3 ? " (triangulate the mesh first)" : ""));
-          for (int c = 0; c < 3; ++c) {
+          // A polygon (with ReadOptions::triangulate) is the fan from its first corner;
+          // its corners are read as they come, so a false count costs only the bytes
+          // the file has.
+          int first = -1, previous = -1;
+          for (long long c = 0; c < n; ++c) {
             const long long index = src.readInt(p.type);
             if (index < 0 || static_cast<std::uint64_t>(index) >= numV)
               src.error("vertex index " + std::to_string(index) +
                         " is out of range (the file has " + std::to_string(numV) + " vertices)");
-            F.push_back(static_cast<int>(index));
+            if (c >= 2) F.insert(F.end(), {first, previous, static_cast<int>(index)});
+            (c == 0 ? first : previous) = static_cast<int>(index);
           }
         } else if (p.isList) {
           const long long n = src.readInt(p.countType);
@@ -502,7 +507,7 @@ TriMesh readPlyData(Source& src, const PlyHeader& header,
 
 }  // namespace
 
-TriMesh readPly(std::istream& in, const std::string& source) {
+TriMesh readPly(std::istream& in, const std::string& source, const ReadOptions& options) {
   requireNotEmpty(in, source);
   PlyHeader header = readPlyHeader(in, source);
   assignPlyRoles(header, source);
@@ -510,10 +515,10 @@ TriMesh readPly(std::istream& in, const std::string& source) {
   if (remaining) checkPlySizes(header, *remaining, source);
   if (header.format == PlyFormat::Ascii) {
     PlyAsciiSource src(in, header.lines, source);
-    return readPlyData(src, header, remaining);
+    return readPlyData(src, header, options, remaining);
   }
   PlyBinarySource src(in, header.format == PlyFormat::BinaryBigEndian, source);
-  return readPlyData(src, header, remaining);
+  return readPlyData(src, header, options, remaining);
 }
 
 void writePly(std::ostream& out, const TriMesh& mesh, const WriteOptions& opts) {

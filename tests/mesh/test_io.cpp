@@ -639,3 +639,31 @@ TEST(MeshIOFuzz, MutatedFilesParseOrThrowError) {
   EXPECT_GT(parsed, 100);
   EXPECT_GT(rejected, 100);
 }
+
+TEST(MeshIO, PolygonsAreFansOnlyWhenAsked) {
+  // A unit square as one quad, and a pentagon (the square with a point above its top
+  // edge), in each format: refused by default; with ReadOptions::triangulate, the fans
+  // (0, 1, 2) (0, 2, 3) and (0, 1, 2) (0, 2, 3) (0, 3, 4) from each first corner.
+  const std::string points = "0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n";
+  const std::string obj =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nf 1 2 3 5\nf 1 2 3 4 5\n";
+  const std::string off = "OFF\n5 2 0\n" + points + "4 0 1 2 4\n5 0 1 2 3 4\n";
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n" +
+      points + "4 0 1 2 4\n5 0 1 2 3 4\n";
+  ReadOptions triangulate;
+  triangulate.triangulate = true;
+  const Faces expected = (Faces(5, 3) << 0, 1, 2, 0, 2, 4, 0, 1, 2, 0, 2, 3, 0, 3, 4).finished();
+  for (const auto& [format, text] :
+       {std::pair{MeshFormat::Obj, obj}, std::pair{MeshFormat::Off, off},
+        std::pair{MeshFormat::Ply, ply}}) {
+    SCOPED_TRACE(text);
+    std::istringstream refused(text), read(text);
+    expectContains(errorOf([&] { readMesh(refused, format, "poly"); }),
+                   {"4 vertices; osdmra needs triangles"});
+    const TriMesh m = readMesh(read, format, "poly", triangulate);
+    EXPECT_EQ(m.V.rows(), 5);
+    EXPECT_EQ(m.F, expected);
+  }
+}
