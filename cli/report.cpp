@@ -40,6 +40,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("welded_vertices", r.welding.vertices)
       .add("welded_faces_dropped", r.welding.faces)
       .add("split_vertices", r.splitVertices)
+      .add("t_junction_edges_split", r.zippedEdges)
       .add("non_manifold_edges_cut", r.cutEdges)
       .add("reoriented_faces", r.reorientedFaces)
       .add("zero_area_faces", Json::object()

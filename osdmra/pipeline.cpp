@@ -7,6 +7,7 @@
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/io.h"
+#include "osdmra/mesh/t_junctions.h"
 
 namespace osdmra {
 namespace {
@@ -100,6 +101,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     const int dropped = removeUnreferencedVertices(input);
     const int duplicates = removeDuplicateFaces(input);
     const Welding welding = weldBoundaryVertices(input);
+    const int zipped = zipTJunctions(input);
     const int cut = cutNonManifoldEdges(input);
     const int reoriented = orientConsistently(input);
     const int split = splitNonManifoldVertices(input);
@@ -112,6 +114,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     s.remeshing->welding = welding;
     s.remeshing->splitVertices = split;
     s.remeshing->cutEdges = cut;
+    s.remeshing->zippedEdges = zipped;
     s.remeshing->reorientedFaces = reoriented;
     if (reoriented > 0)
       s.remeshing->warnings.push_back(

@@ -59,6 +59,8 @@ struct RemeshReport {
   int splitVertices = 0;
   /// Edges of three faces or more cut open (cutNonManifoldEdges).
   int cutEdges = 0;
+  /// Boundary edges split at the vertices lying on them (zipTJunctions).
+  int zippedEdges = 0;
   /// Faces reversed to agree with their neighbours (orientConsistently).
   int reorientedFaces = 0;
   /// Zero-area faces mended (removeZeroAreaFaces: CAD exports' caps and needles).
@@ -85,10 +87,11 @@ struct LoadedSurface {
   double seconds = 0;  ///< reading, validation and remeshing
 };
 
-/// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it,
-/// drops faces naming a vertex twice and unreferenced vertices, welds coincident boundary vertices,
-/// cuts non-manifold edges open, orients the faces consistently, splits pinched vertices, mends
-/// zero-area faces, validates and remeshes it. Throws Error naming the file and what is wrong.
+/// Reads `path` (OBJ, OFF or PLY) and validates it, or with options.remesh reads it
+/// (polygons as fans of triangles), drops faces naming a vertex twice and unreferenced
+/// vertices, welds coincident boundary vertices, zips T-junctions, cuts non-manifold
+/// edges open, orients the faces consistently, splits pinched vertices, mends zero-area
+/// faces, validates and remeshes it. Throws Error naming the file and what is wrong.
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});
 

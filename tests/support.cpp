@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -113,6 +114,15 @@ TriMesh unitCube() {
   c.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6,
       1, 3, 5, 3, 7, 5;
   return c;
+}
+
+double surfaceArea(const TriMesh& m) {
+  double a = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d p = m.V.row(m.F(f, 0)), q = m.V.row(m.F(f, 1)), r = m.V.row(m.F(f, 2));
+    a += 0.5 * (q - p).cross(r - p).norm();
+  }
+  return a;
 }
 
 TriMesh fannedCube(int k) {

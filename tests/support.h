@@ -71,6 +71,9 @@ TriMesh unitSquare(double z = 0.0);
 /// (i & 1, i >> 1 & 1, i >> 2 & 1).
 TriMesh unitCube();
 
+/// The sum of the faces' areas.
+double surfaceArea(const TriMesh& m);
+
 /// The unit cube as CAD exports write it: each side a polygon with k points along each
 /// of its edges, fanned from the second point of its first edge, so that the fan's
 /// first two triangles have their three corners on that edge (zero-area caps: 12 for

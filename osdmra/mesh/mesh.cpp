@@ -303,22 +303,11 @@ int removeUnreferencedVertices(TriMesh& mesh) {
 
 namespace {
 
-// Every index in range and no repeated corner: what Connectivity needs.
-bool wellFormed(const TriMesh& mesh) {
-  const Eigen::Index nv = mesh.V.rows();
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int v = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
-      if (v < 0 || v >= nv || v == w) return false;
-    }
-  return true;
-}
-
 // Boundary vertices with a finite position, grouped by exact position (-0 and +0 the
 // same): each group's vertices in increasing order. Empty when the faces are not
 // well-formed (an index out of range or a repeated corner).
 std::vector<std::vector<int>> coincidentBoundaryVertices(const TriMesh& mesh) {
-  if (!wellFormed(mesh)) return {};
+  if (!hasWellFormedFaces(mesh)) return {};
   const int nv = static_cast<int>(mesh.V.rows());
   const Connectivity conn(mesh.F, nv);
   std::vector<int> open;
@@ -348,6 +337,16 @@ std::vector<std::vector<int>> coincidentBoundaryVertices(const TriMesh& mesh) {
 }
 
 }  // namespace
+
+bool hasWellFormedFaces(const TriMesh& mesh) {
+  const Eigen::Index nv = mesh.V.rows();
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k), w = mesh.F(f, (k + 1) % 3);
+      if (v < 0 || v >= nv || v == w) return false;
+    }
+  return true;
+}
 
 Welding weldBoundaryVertices(TriMesh& mesh) {
   Welding out;
@@ -403,7 +402,7 @@ int removeFacesWithRepeatedCorners(TriMesh& mesh) {
 }
 
 int removeDuplicateFaces(TriMesh& mesh) {
-  if (!wellFormed(mesh)) return 0;
+  if (!hasWellFormedFaces(mesh)) return 0;
   // A face's key: its corners sorted, so that either orientation matches.
   std::vector<std::pair<std::array<int, 3>, Eigen::Index>> keys;
   keys.reserve(static_cast<std::size_t>(mesh.F.rows()));
@@ -429,7 +428,7 @@ int removeDuplicateFaces(TriMesh& mesh) {
 }
 
 int splitNonManifoldVertices(TriMesh& mesh) {
-  if (!wellFormed(mesh)) return 0;
+  if (!hasWellFormedFaces(mesh)) return 0;
   const int nv = static_cast<int>(mesh.V.rows());
   const Connectivity conn(mesh.F, nv);
   if (conn.firstNonManifoldVertex < 0 || conn.firstNonManifoldEdgeFace >= 0 ||
@@ -468,7 +467,7 @@ std::size_t runEnd(const std::vector<std::pair<std::uint64_t, int>>& sorted, std
 }  // namespace
 
 int cutNonManifoldEdges(TriMesh& mesh) {
-  if (!wellFormed(mesh)) return 0;
+  if (!hasWellFormedFaces(mesh)) return 0;
   const std::vector<std::pair<std::uint64_t, int>> edges = halfedgesByEdge(mesh.F);
   std::vector<int> ends;
   int cut = 0;
@@ -490,7 +489,7 @@ int cutNonManifoldEdges(TriMesh& mesh) {
 }
 
 int orientConsistently(TriMesh& mesh) {
-  if (!wellFormed(mesh)) return 0;
+  if (!hasWellFormedFaces(mesh)) return 0;
   const int nf = static_cast<int>(mesh.F.rows());
   // The halfedge across each one (-1 on the boundary), and whether the two agree (run
   // their edge opposite ways).

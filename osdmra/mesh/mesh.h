@@ -27,6 +27,10 @@ struct TriMesh {
 /// offending face or vertex (0-based) and what is wrong with it.
 void validate(const TriMesh& mesh, const std::string& source);
 
+/// Every face's indices in range and its three corners distinct: what the repairs below
+/// and Connectivity need (validate() names a face that is not).
+bool hasWellFormedFaces(const TriMesh& mesh);
+
 /// Drops vertices that no face uses (scans often carry some), renumbering the rest
 /// in their order; returns how many were dropped.
 int removeUnreferencedVertices(TriMesh& mesh);

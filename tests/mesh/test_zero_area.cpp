@@ -15,15 +15,6 @@ using namespace osdmra::test;
 
 namespace {
 
-double area(const TriMesh& m) {
-  double a = 0;
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
-    const Eigen::Vector3d p = m.V.row(m.F(f, 0)), q = m.V.row(m.F(f, 1)), r = m.V.row(m.F(f, 2));
-    a += 0.5 * (q - p).cross(r - p).norm();
-  }
-  return a;
-}
-
 int zeroAreaFaces(const TriMesh& m) {
   int n = 0;
   for (int f = 0; f < m.F.rows(); ++f) n += isZeroAreaFace(m, f);
@@ -38,7 +29,7 @@ TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
   const int caps = zeroAreaFaces(m);
   ASSERT_EQ(caps, 12);  // two per side: (1, 2, 3) and (1, 3, 4) of its loop
   const Points before = m.V;
-  const double a = area(m);
+  const double a = surfaceArea(m);
   const Topology t = topology(m);
   const ZeroAreaRepair r = removeZeroAreaFaces(m);
   EXPECT_EQ(r.flipped, caps);
@@ -47,7 +38,7 @@ TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
   EXPECT_NO_THROW(validate(m, "mended"));
   EXPECT_EQ(topology(m), t);
   EXPECT_EQ(m.V, before);  // flips move no vertex
-  EXPECT_NEAR(area(m), a, 1e-12);
+  EXPECT_NEAR(surfaceArea(m), a, 1e-12);
   // Every face still lies in one side of the cube (a coordinate at 0 or 1 shared by its
   // three corners): the flips split faces of the same side.
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -74,7 +65,7 @@ TEST(ZeroArea, ACapOnTheBoundaryIsDropped) {
   EXPECT_EQ(m.F.rows(), 4);
   EXPECT_NO_THROW(validate(m, "mended"));
   EXPECT_EQ(topology(m), t);
-  EXPECT_NEAR(area(m), 1.0, 1e-15);
+  EXPECT_NEAR(surfaceArea(m), 1.0, 1e-15);
 }
 
 TEST(ZeroArea, NeedlesAreCollapsed) {
@@ -112,7 +103,7 @@ TEST(ZeroArea, NeedlesAreCollapsed) {
   EXPECT_EQ(m.V.rows(), original.V.rows());
   EXPECT_EQ(m.F.rows(), original.F.rows());
   EXPECT_EQ(topology(m), topology(original));
-  EXPECT_NEAR(area(m), area(original), 1e-12);
+  EXPECT_NEAR(surfaceArea(m), surfaceArea(original), 1e-12);
 }
 
 TEST(ZeroArea, AMeshWithoutAnyIsLeftAsItIs) {

@@ -1,0 +1,146 @@
+#include "osdmra/mesh/t_junctions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace osdmra {
+
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+std::uint64_t key(int from, int to) {
+  return std::uint64_t{static_cast<std::uint32_t>(from)} << 32 | static_cast<std::uint32_t>(to);
+}
+
+// Halfedges h = 3 f + k (corner k to k + 1 of face f) that no face runs the other way.
+std::vector<int> boundaryHalfedges(const Faces& F) {
+  std::vector<std::uint64_t> directed(3 * static_cast<std::size_t>(F.rows()));
+  for (std::size_t h = 0; h < directed.size(); ++h)
+    directed[h] = key(F(h / 3, h % 3), F(h / 3, (h % 3 + 1) % 3));
+  std::vector<std::uint64_t> sorted = directed;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<int> out;
+  for (std::size_t h = 0; h < directed.size(); ++h) {
+    const std::uint64_t reverse = directed[h] << 32 | directed[h] >> 32;
+    if (!std::binary_search(sorted.begin(), sorted.end(), reverse))
+      out.push_back(static_cast<int>(h));
+  }
+  return out;
+}
+
+// Boundary vertices bucketed in a uniform grid of cubes of side `cell`.
+class VertexGrid {
+ public:
+  VertexGrid(const Points& V, const std::vector<int>& vertices, double cell) : V_(V), cell_(cell) {
+    for (int v : vertices) cells_[cellKey(cellOf(V.row(v).transpose()))].push_back(v);
+  }
+  // The vertices in the cells that the box [lo, hi] touches.
+  template <class F>
+  void forEachIn(const Vec3& lo, const Vec3& hi, F&& visit) const {
+    const Eigen::Array3i a = cellOf(lo), b = cellOf(hi);
+    for (int x = a(0); x <= b(0); ++x)
+      for (int y = a(1); y <= b(1); ++y)
+        for (int z = a(2); z <= b(2); ++z) {
+          const auto it = cells_.find(cellKey(Eigen::Array3i(x, y, z)));
+          if (it != cells_.end())
+            for (int v : it->second) visit(v);
+        }
+  }
+
+ private:
+  Eigen::Array3i cellOf(const Vec3& p) const { return (p.array() / cell_).floor().cast<int>(); }
+  static std::uint64_t cellKey(const Eigen::Array3i& c) {
+    const auto h = [](int i) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)); };
+    return h(c(0)) * 0x9E3779B97F4A7C15ull ^ h(c(1)) * 0xC2B2AE3D27D4EB4Full ^
+           h(c(2)) * 0x165667B19E3779F9ull;
+  }
+  const Points& V_;
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
+
+// Where boundary vertex v lies on segment [a, b] (0 < t < 1), or -1.
+double placeOn(const Points& V, int a, int b, int v) {
+  const Vec3 pa = V.row(a), pb = V.row(b), p = V.row(v);
+  const Vec3 d = pb - pa;
+  const double length2 = d.squaredNorm();
+  if (!(length2 > 0)) return -1;
+  const double t = (p - pa).dot(d) / length2;
+  if (!(t > 0 && t < 1)) return -1;
+  const double tolerance = kTJunctionTolerance * std::sqrt(length2);
+  return (pa + t * d - p).squaredNorm() <= tolerance * tolerance ? t : -1;
+}
+
+// One pass: each face split along at most one of its edges.
+int zipRound(TriMesh& mesh) {
+  const std::vector<int> open = boundaryHalfedges(mesh.F);
+  if (open.empty()) return 0;
+  std::vector<int> vertices;
+  double total = 0;
+  for (int h : open) {
+    const int a = mesh.F(h / 3, h % 3), b = mesh.F(h / 3, (h % 3 + 1) % 3);
+    vertices.push_back(a);
+    total += (mesh.V.row(b) - mesh.V.row(a)).norm();
+  }
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  const double cell = total / static_cast<double>(open.size());
+  if (!(cell > 0)) return 0;
+  const VertexGrid grid(mesh.V, vertices, cell);
+  std::vector<char> split(static_cast<std::size_t>(mesh.F.rows()), 0);
+  std::vector<std::array<int, 3>> added;
+  int edges = 0;
+  for (int h : open) {
+    const int f = h / 3, k = h % 3;
+    if (split[f]) continue;
+    const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3), c = mesh.F(f, (k + 2) % 3);
+    const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b);
+    const double tolerance = kTJunctionTolerance * (pb - pa).norm();
+    std::vector<std::pair<double, int>> onEdge;
+    grid.forEachIn(pa.cwiseMin(pb).array() - tolerance, pa.cwiseMax(pb).array() + tolerance,
+                   [&](int v) {
+                     if (v == a || v == b || v == c) return;
+                     const double t = placeOn(mesh.V, a, b, v);
+                     if (t > 0) onEdge.emplace_back(t, v);
+                   });
+    if (onEdge.empty()) continue;
+    std::sort(onEdge.begin(), onEdge.end());
+    // (a, b, c) becomes the fan (a, v1, c), (v1, v2, c), ..., (vk, b, c).
+    int from = a;
+    for (const auto& [t, v] : onEdge) {
+      added.push_back({from, v, c});
+      from = v;
+    }
+    mesh.F.row(f) << from, b, c;
+    split[f] = 1;
+    ++edges;
+  }
+  if (edges == 0) return 0;
+  const Eigen::Index n = mesh.F.rows();
+  mesh.F.conservativeResize(n + static_cast<Eigen::Index>(added.size()), 3);
+  for (std::size_t i = 0; i < added.size(); ++i)
+    mesh.F.row(n + static_cast<Eigen::Index>(i)) << added[i][0], added[i][1], added[i][2];
+  return edges;
+}
+
+}  // namespace
+
+int zipTJunctions(TriMesh& mesh) {
+  if (mesh.F.rows() == 0 || !hasWellFormedFaces(mesh) || !mesh.V.allFinite()) return 0;
+  // A face with T-junctions on two of its edges has the second split in a later round.
+  constexpr int kMaxRounds = 8;
+  int edges = 0;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    const int split = zipRound(mesh);
+    if (split == 0) break;
+    edges += split;
+  }
+  return edges;
+}
+
+}  // namespace osdmra
