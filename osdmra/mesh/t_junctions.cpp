@@ -17,19 +17,21 @@ std::uint64_t key(int from, int to) {
   return std::uint64_t{static_cast<std::uint32_t>(from)} << 32 | static_cast<std::uint32_t>(to);
 }
 
-// Halfedges h = 3 f + k (corner k to k + 1 of face f) that no face runs the other way.
+// Halfedges h = 3 f + k (corner k to k + 1 of face f) alone on their edge: one sort of
+// the halfedges by their ends, lower first, and the runs of one.
 std::vector<int> boundaryHalfedges(const Faces& F) {
-  std::vector<std::uint64_t> directed(3 * static_cast<std::size_t>(F.rows()));
-  for (std::size_t h = 0; h < directed.size(); ++h)
-    directed[h] = key(F(h / 3, h % 3), F(h / 3, (h % 3 + 1) % 3));
-  std::vector<std::uint64_t> sorted = directed;
-  std::sort(sorted.begin(), sorted.end());
-  std::vector<int> out;
-  for (std::size_t h = 0; h < directed.size(); ++h) {
-    const std::uint64_t reverse = directed[h] << 32 | directed[h] >> 32;
-    if (!std::binary_search(sorted.begin(), sorted.end(), reverse))
-      out.push_back(static_cast<int>(h));
+  std::vector<std::pair<std::uint64_t, int>> byEdge(3 * static_cast<std::size_t>(F.rows()));
+  for (std::size_t h = 0; h < byEdge.size(); ++h) {
+    const int u = F(h / 3, h % 3), w = F(h / 3, (h % 3 + 1) % 3);
+    byEdge[h] = {key(std::min(u, w), std::max(u, w)), static_cast<int>(h)};
   }
+  std::sort(byEdge.begin(), byEdge.end());
+  std::vector<int> out;
+  for (std::size_t i = 0; i < byEdge.size(); ++i)
+    if ((i == 0 || byEdge[i - 1].first != byEdge[i].first) &&
+        (i + 1 == byEdge.size() || byEdge[i + 1].first != byEdge[i].first))
+      out.push_back(byEdge[i].second);
+  std::sort(out.begin(), out.end());  // face order: the result does not depend on the sort
   return out;
 }
 
