@@ -130,7 +130,7 @@ int cmdDecompress(const Argv& argv) {
   args.expectPositional(1, "one compressed surface: osdmra decompress IN.osz -o OUT");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");
-  meshFormatFromPath(out);  // refuse a bad output name before the work
+  meshFormatForWriting(out);  // refuse a bad output name before the work
   const auto t0 = Clock::now();
   std::vector<std::uint8_t> bytes = readBytes(in);
   const std::size_t size = bytes.size();

@@ -99,7 +99,7 @@ int cmdLod(const Argv& argv) {
   const std::string in = args.positional()[0], out = args.require("output");
   const int modes = args.has("epsilon") + args.has("budget") + args.has("keep");
   if (modes != 1) throw Error("lod: give exactly one of --epsilon, --budget and --keep");
-  meshFormatFromPath(out);  // refuse a bad output name before the work
+  meshFormatForWriting(out);  // refuse a bad output name before the work
   const AnalysisOptions options = analysisOptions(args);
   const LoadedSurface s = loadInput(in, args, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);

@@ -108,7 +108,7 @@ int cmdRemesh(const Argv& argv) {
   args.expectPositional(1, "one input mesh: osdmra remesh IN --base-faces N --levels J -o OUT");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");
-  meshFormatFromPath(out);  // refuse a bad output name before the work
+  meshFormatForWriting(out);  // refuse a bad output name before the work
   // --remesh is implied: remeshing is this command's work.
   InputOptions input = inputOptions(args);
   input.remesh = true;

@@ -19,6 +19,12 @@ namespace osdmra {
 
 using detail::fail;
 
+namespace {
+const std::string kNoStl =
+    "osdmra does not write STL (a soup of float triangles loses the mesh's vertices and "
+    "precision); write .obj, .off or .ply";
+}  // namespace
+
 MeshFormat meshFormatFromPath(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -26,8 +32,15 @@ MeshFormat meshFormatFromPath(const std::string& path) {
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".off") return MeshFormat::Off;
   if (ext == ".ply") return MeshFormat::Ply;
+  if (ext == ".stl") return MeshFormat::Stl;
   fail(path + ": unknown mesh format " + (ext.empty() ? "(no extension)" : detail::quote(ext)) +
-       "; expected .obj, .off or .ply");
+       "; expected .obj, .off, .ply or .stl");
+}
+
+MeshFormat meshFormatForWriting(const std::string& path) {
+  const MeshFormat format = meshFormatFromPath(path);
+  if (format == MeshFormat::Stl) fail(path + ": " + kNoStl);
+  return format;
 }
 
 TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source,
@@ -39,6 +52,8 @@ TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source,
       return readOff(in, source, options);
     case MeshFormat::Ply:
       return readPly(in, source, options);
+    case MeshFormat::Stl:
+      return readStl(in, source, options);
   }
   fail(source + ": unknown mesh format");
 }
@@ -74,11 +89,13 @@ void writeMesh(std::ostream& out, MeshFormat format, const TriMesh& mesh,
       return writeOff(out, mesh, opts);
     case MeshFormat::Ply:
       return writePly(out, mesh, opts);
+    case MeshFormat::Stl:
+      fail(kNoStl);
   }
 }
 
 void writeMesh(const std::string& path, const TriMesh& mesh, const WriteOptions& opts) {
-  const MeshFormat format = meshFormatFromPath(path);
+  const MeshFormat format = meshFormatForWriting(path);  // before touching any file
   try {
     detail::checkWritable(mesh);  // before touching the file system
   } catch (const Error& e) {

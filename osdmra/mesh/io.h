@@ -1,4 +1,4 @@
-// Mesh I/O: triangle meshes in Wavefront OBJ, OFF and PLY, in and out.
+// Mesh I/O: triangle meshes in Wavefront OBJ, OFF and PLY, in and out, and STL in.
 //
 // Readers parse one format and nothing more: they reject whatever the format
 // itself cannot express for osdmra (polygons other than triangles, indices that
@@ -28,6 +28,10 @@
 //   OFF  "OFF" (also COFF, NOFF, STOFF, ... prefixes) with counts on the same or the
 //        next line, or no keyword at all; '#' comments; extra per-vertex values
 //        (colours, texture coordinates) and per-face colours are ignored.
+//   STL  binary (when the size is 84 + 50 n for the n triangles its header declares)
+//        or ASCII (solid / facet / outer loop / vertex x3 / endloop / endfacet /
+//        endsolid, several solids in a file). A soup of triangles: corners at exactly
+//        the same position become one vertex. Facet normals are not read. Not written.
 //   PLY  ascii, binary_little_endian and binary_big_endian. Vertex x, y, z (and
 //        nx, ny, nz) of any numeric type (char/int8 ... double/float64); the face
 //        list vertex_indices (or vertex_index) with any integer count and index
@@ -51,11 +55,16 @@
 
 namespace osdmra {
 
-enum class MeshFormat { Obj, Off, Ply };
+enum class MeshFormat { Obj, Off, Ply, Stl };
 
-/// The format named by the extension of `path`: .obj, .off or .ply, in any case.
+/// The format named by the extension of `path`: .obj, .off, .ply or .stl (read only),
+/// in any case.
 /// Throws Error for any other extension.
 MeshFormat meshFormatFromPath(const std::string& path);
+
+/// meshFormatFromPath for a file to be written: also throws Error for .stl, which is
+/// read only. Front ends call it before the work whose result they will write.
+MeshFormat meshFormatForWriting(const std::string& path);
 
 /// How writePly encodes the data section.
 enum class PlyEncoding {
@@ -105,6 +114,7 @@ TriMesh readMesh(std::istream& in, MeshFormat format, const std::string& source,
 TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& options = {});
 TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& options = {});
 TriMesh readPly(std::istream& in, const std::string& source, const ReadOptions& options = {});
+TriMesh readStl(std::istream& in, const std::string& source, const ReadOptions& options = {});
 
 /// Writers throw Error on an invalid mesh (see writeMesh) or a failed stream.
 void writeMesh(std::ostream& out, MeshFormat format, const TriMesh& mesh,

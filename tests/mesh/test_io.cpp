@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "osdmra/base/error.h"
+#include "osdmra/mesh/detail/text.h"
 #include "osdmra/mesh/io.h"
 #include "osdmra/mesh/mesh.h"
 #include "support.h"
@@ -66,6 +67,39 @@ std::vector<Variant> allVariants() {
   WriteOptions ascii;
   ascii.plyEncoding = PlyEncoding::Ascii;
   return {{"m.obj", {}}, {"m.off", {}}, {"m.ply", {}}, {"ascii.ply", ascii}};
+}
+
+// `m` as an STL file: binary (floats, little-endian; a header that starts with "solid",
+// as some exporters write) or ASCII.
+std::string stlOf(const TriMesh& m, bool binary) {
+  std::string s;
+  if (binary) {
+    s = "solid, but binary";
+    s.resize(80, ' ');
+    auto put = [&](auto value) {
+      char bytes[sizeof value];
+      std::memcpy(bytes, &value, sizeof value);
+      for (std::size_t i = 0; i < sizeof value; ++i)  // little-endian whatever the host
+        s += bytes[detail::hostIsLittleEndian() ? i : sizeof value - 1 - i];
+    };
+    put(static_cast<std::uint32_t>(m.F.rows()));
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      for (int k = 0; k < 3; ++k) put(0.0f);
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) put(static_cast<float>(m.V(m.F(f, c), k)));
+      put(std::uint16_t{0});
+    }
+    return s;
+  }
+  s = "solid m\n";
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    s += "facet normal 0 0 0\n outer loop\n";
+    for (int c = 0; c < 3; ++c)
+      s += "  vertex " + std::to_string(m.V(m.F(f, c), 0)) + " " +
+           std::to_string(m.V(m.F(f, c), 1)) + " " + std::to_string(m.V(m.F(f, c), 2)) + "\n";
+    s += " endloop\nendfacet\n";
+  }
+  return s + "endsolid m\n";
 }
 
 // Big-endian byte builders for hand-made binary PLY files.
@@ -154,8 +188,8 @@ TEST(MeshIO, ExtensionsAreCaseInsensitive) {
     EXPECT_EQ(readMesh(dir.file(name)).F.rows(), 4) << name;
   }
   EXPECT_EQ(meshFormatFromPath("x/y.PLY"), MeshFormat::Ply);
-  expectContains(errorOf([&] { readMesh(dir.file("mesh.stl")); }),
-                 {"mesh.stl", "unknown mesh format", ".obj, .off or .ply"});
+  expectContains(errorOf([&] { readMesh(dir.file("mesh.stl2")); }),
+                 {"mesh.stl2", "unknown mesh format", ".obj, .off, .ply or .stl"});
   expectContains(errorOf([&] { writeMesh(dir.file("noext"), cornerTetrahedron()); }),
                  {"noext", "no extension"});
 }
@@ -615,6 +649,7 @@ TEST(MeshIOFuzz, MutatedFilesParseOrThrowError) {
     writeMesh(out, meshFormatFromPath(v.file), mesh, v.opts);
     seeds.push_back({meshFormatFromPath(v.file), out.str()});
   }
+  for (const bool binary : {true, false}) seeds.push_back({MeshFormat::Stl, stlOf(mesh, binary)});
   std::mt19937 rng(20240611);
   int parsed = 0, rejected = 0;
   for (int i = 0; i < 2000; ++i)
@@ -666,4 +701,48 @@ TEST(MeshIO, PolygonsAreFansOnlyWhenAsked) {
     EXPECT_EQ(m.V.rows(), 5);
     EXPECT_EQ(m.F, expected);
   }
+}
+
+TEST(StlReader, BinaryAndAsciiSoupsBecomeTheMesh) {
+  // Each face with its own three corners; merged by position, the tetrahedron again
+  // (faces in order, vertices in the order of their first corner).
+  const TriMesh tet = cornerTetrahedron();
+  for (const bool binary : {true, false}) {
+    SCOPED_TRACE(binary ? "binary" : "ascii");
+    std::istringstream in(stlOf(tet, binary));
+    const TriMesh m = readStl(in, "t.stl");
+    ASSERT_EQ(m.V.rows(), 4);
+    ASSERT_EQ(m.F.rows(), 4);
+    EXPECT_NO_THROW(validate(m, "t.stl"));
+    for (Eigen::Index f = 0; f < 4; ++f)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(Eigen::RowVector3d(m.V.row(m.F(f, c))),
+                  Eigen::RowVector3d(tet.V.row(tet.F(f, c))));
+  }
+  // Two solids in one ASCII file.
+  const std::string one = stlOf(tet, false);
+  std::istringstream two(one + one);
+  EXPECT_EQ(readStl(two, "two.stl").F.rows(), 8);
+}
+
+TEST(StlReader, RejectsWithFileAndLine) {
+  TempDir dir;
+  const TriMesh tet = cornerTetrahedron();
+  std::string binary = stlOf(tet, true);
+  expectContains(readError(dir, "short.stl", binary.substr(0, binary.size() - 7)),
+                 {"short.stl: ", "declares 4 triangles (200 bytes) but 193 bytes follow"});
+  expectContains(readError(dir, "tiny.stl", "abc"), {"tiny.stl: ", "too short"});
+  const std::string ascii = stlOf(tet, false);
+  const std::size_t loop = ascii.find(" endloop");
+  expectContains(
+      readError(dir, "four.stl", ascii.substr(0, loop) + "  vertex 0 0 0\n" + ascii.substr(loop)),
+      {"four.stl:7: ", "more than 3 vertices"});
+  expectContains(readError(dir, "cut.stl", ascii.substr(0, loop)),
+                 {"cut.stl:", "file ends inside a facet"});
+  expectContains(readError(dir, "nan.stl", "solid\nfacet\nouter loop\nvertex nan 0 0\n"),
+                 {"nan.stl:4: ", "non-finite"});
+  // STL is read only: writing one is refused before any file is made.
+  const std::string out = dir.file("out.stl");
+  expectContains(errorOf([&] { writeMesh(out, tet); }), {out, "does not write STL"});
+  EXPECT_FALSE(fs::exists(out));
 }
