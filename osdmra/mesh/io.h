@@ -73,11 +73,12 @@ enum class PlyEncoding {
 };
 
 struct ReadOptions {
-  /// Polygons of more than three corners become the fan of triangles from their first
-  /// corner instead of an error (the remesher takes quad and polygon meshes so; a fan
-  /// is the polygon's own surface when the polygon is planar and convex, as exporters'
-  /// quads and CAD faces are). Off by default: subdivision connectivity is a triangle
-  /// mesh's, and analysing a quad mesh as triangles would find none.
+  /// Polygons of more than three corners become triangles instead of an error (the
+  /// remesher takes quad and polygon meshes so): the fan from the first corner, or
+  /// where that folds (a polygon not star-shaped from it, such as an L-shaped face
+  /// listed from its end), the polygon's ear clipping in its plane (up to 64 corners).
+  /// Off by default: subdivision connectivity is a triangle mesh's, and analysing a
+  /// quad mesh as triangles would find none.
   bool triangulate = false;
 };
 

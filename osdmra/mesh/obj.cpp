@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "osdmra/mesh/detail/out_buffer.h"
+#include "osdmra/mesh/detail/polygons.h"
 #include "osdmra/mesh/detail/text.h"
 #include "osdmra/mesh/io.h"
 
@@ -70,6 +71,7 @@ TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& 
   std::vector<std::pair<std::size_t, long long>> forwardRefs;  // (face, line)
   long long numTexCoords = 0;
   std::vector<std::pair<int, int>> corners;  // of the face being read: (vertex, normal)
+  std::vector<PolygonFan> fans;
 
   LineReader lines(in);
   std::string line, continued;
@@ -141,7 +143,9 @@ TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& 
         }
         corners.emplace_back(static_cast<int>(v), static_cast<int>(vn));
       }
-      // A polygon (with ReadOptions::triangulate) is the fan from its first corner.
+      // A polygon (with ReadOptions::triangulate) is the fan from its first corner,
+      // unfolded once the positions are all known.
+      if (n > 3) fans.push_back({F.size() / 3, static_cast<int>(n)});
       for (std::size_t k = 1; k + 1 < n; ++k) {
         const std::size_t face = F.size() / 3;
         if (face >= static_cast<std::size_t>(kMaxIndex / 3)) fail(where() + "too many faces");
@@ -174,6 +178,7 @@ TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& 
              " but the file has only " + std::to_string(numN) + " normals");
     }
 
+  unfoldPolygonFans(V, F, fans);
   TriMesh mesh;
   mesh.V = toPoints(V);
   mesh.F = toFaces(F);

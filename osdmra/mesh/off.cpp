@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "osdmra/mesh/detail/out_buffer.h"
+#include "osdmra/mesh/detail/polygons.h"
 #include "osdmra/mesh/detail/text.h"
 #include "osdmra/mesh/io.h"
 
@@ -86,6 +87,7 @@ TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& 
 
   std::vector<double> V, N;
   std::vector<int> F;
+  std::vector<PolygonFan> fans;  // polygons read as fans (ReadOptions::triangulate)
   V.reserve(3 * safeReserve(numV, remaining));
   if (hasNormals) N.reserve(3 * safeReserve(numV, remaining));
   F.reserve(3 * safeReserve(numF, remaining));
@@ -124,6 +126,7 @@ TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& 
     if (static_cast<long long>(tokens.size()) - 1 < count)
       fail(where() + "expected " + std::to_string(count) + " vertex indices, found " +
            std::to_string(tokens.size() - 1));
+    if (count > 3) fans.push_back({F.size() / 3, static_cast<int>(count)});
     int first = -1, previous = -1;
     for (long long c = 1; c <= count; ++c) {
       long long index = 0;
@@ -141,6 +144,7 @@ TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& 
     fail(at(source, lines.line()) + "unexpected data after the last of " + std::to_string(numF) +
          " faces: " + quote(tokens[0]) + " (wrong counts in the header?)");
 
+  unfoldPolygonFans(V, F, fans);
   TriMesh mesh;
   mesh.V = toPoints(V);
   mesh.F = toFaces(F);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "osdmra/mesh/detail/out_buffer.h"
+#include "osdmra/mesh/detail/polygons.h"
 #include "osdmra/mesh/detail/text.h"
 #include "osdmra/mesh/io.h"
 
@@ -447,6 +448,7 @@ TriMesh readPlyData(Source& src, const PlyHeader& header, const ReadOptions& opt
     }
   std::vector<double> V, N;
   std::vector<int> F;
+  std::vector<PolygonFan> fans;  // polygons read as fans (ReadOptions::triangulate)
 
   for (const PlyElement& e : header.elements) {
     src.element = &e.name;
@@ -468,6 +470,8 @@ TriMesh readPlyData(Source& src, const PlyHeader& header, const ReadOptions& opt
           // A polygon (with ReadOptions::triangulate) is the fan from its first corner;
           // its corners are read as they come, so a false count costs only the bytes
           // the file has.
+          if (n > 3)
+            fans.push_back({F.size() / 3, static_cast<int>(std::min<long long>(n, kMaxIndex))});
           int first = -1, previous = -1;
           for (long long c = 0; c < n; ++c) {
             const long long index = src.readInt(p.type);
@@ -498,6 +502,7 @@ TriMesh readPlyData(Source& src, const PlyHeader& header, const ReadOptions& opt
   }
   src.finish();
 
+  unfoldPolygonFans(V, F, fans);
   TriMesh mesh;
   mesh.V = toPoints(V);
   mesh.F = toFaces(F);

@@ -2,6 +2,7 @@
 // a message naming the file and the line or element, and a mutation fuzz loop.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -745,4 +746,24 @@ TEST(StlReader, RejectsWithFileAndLine) {
   const std::string out = dir.file("out.stl");
   expectContains(errorOf([&] { writeMesh(out, tet); }), {out, "does not write STL"});
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(MeshIO, APolygonWhoseFanFoldsIsEarClipped) {
+  // An L-shaped face, listed from a corner it is not star-shaped from: its fan's first
+  // triangle is clockwise. Read, its four triangles are counter-clockwise (+z) and
+  // cover the L's area (3) exactly once.
+  const std::string off = "OFF\n6 1 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n0 0 0\n2 0 0\n6 0 1 2 3 4 5\n";
+  ReadOptions triangulate;
+  triangulate.triangulate = true;
+  std::istringstream in(off);
+  const TriMesh m = readMesh(in, MeshFormat::Off, "l.off", triangulate);
+  ASSERT_EQ(m.F.rows(), 4);
+  double area = 0;
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    const double z = (b - a).cross(c - a).z();
+    EXPECT_GT(z, 0) << "face " << f;
+    area += 0.5 * z;
+  }
+  EXPECT_DOUBLE_EQ(area, 3.0);
 }
