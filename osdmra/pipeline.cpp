@@ -67,9 +67,11 @@ std::vector<std::string> remeshWarnings(const RemeshReport& r) {
 
 // ---- Input -------------------------------------------------------------------------
 
-RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
-                            const InputOptions& options, const Progress& progress) {
-  RemeshReport r;
+namespace {
+
+// Remeshes `input` into `r`, which may already hold what was done to the input.
+void measureRemeshing(const TriMesh& input, const std::string& source, const InputOptions& options,
+                      const Progress& progress, RemeshReport& r) {
   r.inputVertices = static_cast<int>(input.V.rows());
   r.inputFaces = static_cast<int>(input.F.rows());
   r.requestedBaseFaces = options.remeshing.baseFaces;
@@ -80,7 +82,47 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
   r.distance = surfaceDistance(r.result.mesh, input, options.distance);
   if (r.result.selfIntersections > 0)
     r.inputSelfIntersections = findSelfIntersections(input, 0).count;
-  r.warnings = remeshWarnings(r);
+  for (std::string& w : remeshWarnings(r)) r.warnings.push_back(std::move(w));
+}
+
+// The repairs loadSurface makes to an input before remeshing it (mesh/mesh.h,
+// mesh/t_junctions.h, mesh/zero_area.h), in this order: each counted in `r`, and said
+// in a warning where a user should know.
+void repairInput(TriMesh& input, RemeshReport& r) {
+  r.repeatedCornerFaces = removeFacesWithRepeatedCorners(input);
+  r.droppedVertices = removeUnreferencedVertices(input);
+  r.duplicateFaces = removeDuplicateFaces(input);
+  r.welding = weldBoundaryVertices(input);
+  r.zippedEdges = zipTJunctions(input);
+  r.cutEdges = cutNonManifoldEdges(input);
+  r.reorientedFaces = orientConsistently(input);
+  r.splitVertices = splitNonManifoldVertices(input);
+  r.zeroArea = removeZeroAreaFaces(input);
+  const auto warn = [&](bool when, const std::string& what) {
+    if (when) r.warnings.push_back(what);
+  };
+  warn(!r.welding.refused.empty(),
+       "boundary vertices at the same position were left apart: welding them fails (" +
+           r.welding.refused + ")");
+  warn(r.cutEdges > 0, std::to_string(r.cutEdges) +
+                           " non-manifold edges (three faces or more) were cut open: the "
+                           "sheets that met there are remeshed apart, touching along them");
+  warn(r.reorientedFaces > 0,
+       std::to_string(r.reorientedFaces) +
+           " faces were reversed to agree with their neighbours' winding (the winding most "
+           "faces of each component had is kept)");
+  warn(r.zeroArea.left > 0,
+       std::to_string(r.zeroArea.left) +
+           " zero-area input faces could not be mended (no flip or collapse keeps a manifold "
+           "there): the surface has no normal there, and the remeshing may fold");
+}
+
+}  // namespace
+
+RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
+                            const InputOptions& options, const Progress& progress) {
+  RemeshReport r;
+  measureRemeshing(input, source, options, progress, r);
   return r;
 }
 
@@ -93,49 +135,15 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
   if (!options.remesh) {
     s.mesh = readValidMesh(path);
   } else {
-    // The remesher takes quad and polygon meshes too, as fans of triangles.
+    // The remesher takes quad and polygon meshes too, as triangles.
     ReadOptions reading;
     reading.triangulate = true;
     TriMesh input = readMesh(path, reading);
-    const int repeated = removeFacesWithRepeatedCorners(input);
-    const int dropped = removeUnreferencedVertices(input);
-    const int duplicates = removeDuplicateFaces(input);
-    const Welding welding = weldBoundaryVertices(input);
-    const int zipped = zipTJunctions(input);
-    const int cut = cutNonManifoldEdges(input);
-    const int reoriented = orientConsistently(input);
-    const int split = splitNonManifoldVertices(input);
-    const ZeroAreaRepair zeroArea = removeZeroAreaFaces(input);
+    RemeshReport r;
+    repairInput(input, r);
     validate(input, path);
-    s.remeshing = remeshMeasured(input, path, options, progress);
-    s.remeshing->droppedVertices = dropped;
-    s.remeshing->duplicateFaces = duplicates;
-    s.remeshing->repeatedCornerFaces = repeated;
-    s.remeshing->welding = welding;
-    s.remeshing->splitVertices = split;
-    s.remeshing->cutEdges = cut;
-    s.remeshing->zippedEdges = zipped;
-    s.remeshing->reorientedFaces = reoriented;
-    if (reoriented > 0)
-      s.remeshing->warnings.push_back(
-          std::to_string(reoriented) +
-          " faces were reversed to agree with their neighbours' winding (the winding most "
-          "faces of each component had is kept)");
-    if (cut > 0)
-      s.remeshing->warnings.push_back(
-          std::to_string(cut) +
-          " non-manifold edges (three faces or more) were cut open: the sheets that met "
-          "there are remeshed apart, touching along them");
-    s.remeshing->zeroArea = zeroArea;
-    if (zeroArea.left > 0)
-      s.remeshing->warnings.push_back(
-          std::to_string(zeroArea.left) +
-          " zero-area input faces could not be mended (no flip or collapse keeps a manifold "
-          "there): the surface has no normal there, and the remeshing may fold");
-    if (!welding.refused.empty())
-      s.remeshing->warnings.push_back(
-          "boundary vertices at the same position were left apart: welding them fails (" +
-          welding.refused + ")");
+    measureRemeshing(input, path, options, progress, r);
+    s.remeshing = std::move(r);
     s.mesh = s.remeshing->result.mesh;
   }
   s.seconds = secondsSince(t0);
