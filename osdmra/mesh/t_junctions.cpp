@@ -38,31 +38,41 @@ std::vector<int> boundaryHalfedges(const Faces& F) {
 // Boundary vertices bucketed in a uniform grid of cubes of side `cell`.
 class VertexGrid {
  public:
-  VertexGrid(const Points& V, const std::vector<int>& vertices, double cell) : V_(V), cell_(cell) {
+  VertexGrid(const Points& V, const std::vector<int>& vertices, double cell)
+      : cell_(cell), all_(vertices) {
     for (int v : vertices) cells_[cellKey(cellOf(V.row(v).transpose()))].push_back(v);
   }
-  // The vertices in the cells that the box [lo, hi] touches.
+  // The vertices in the cells that the box [lo, hi] touches; every vertex when the box
+  // spans more cells than there are vertices (a long edge across the grid).
   template <class F>
   void forEachIn(const Vec3& lo, const Vec3& hi, F&& visit) const {
-    const Eigen::Array3i a = cellOf(lo), b = cellOf(hi);
-    for (int x = a(0); x <= b(0); ++x)
-      for (int y = a(1); y <= b(1); ++y)
-        for (int z = a(2); z <= b(2); ++z) {
-          const auto it = cells_.find(cellKey(Eigen::Array3i(x, y, z)));
+    const Cell a = cellOf(lo), b = cellOf(hi);
+    if ((b - a + 1).cast<double>().prod() > static_cast<double>(all_.size())) {
+      for (int v : all_) visit(v);
+      return;
+    }
+    for (long long x = a(0); x <= b(0); ++x)
+      for (long long y = a(1); y <= b(1); ++y)
+        for (long long z = a(2); z <= b(2); ++z) {
+          const auto it = cells_.find(cellKey(Cell(x, y, z)));
           if (it != cells_.end())
             for (int v : it->second) visit(v);
         }
   }
 
  private:
-  Eigen::Array3i cellOf(const Vec3& p) const { return (p.array() / cell_).floor().cast<int>(); }
-  static std::uint64_t cellKey(const Eigen::Array3i& c) {
-    const auto h = [](int i) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)); };
+  using Cell = Eigen::Array<long long, 3, 1>;
+  // Clamped so that no coordinate over cell overflows the integer it is cast to.
+  Cell cellOf(const Vec3& p) const {
+    return (p.array() / cell_).floor().max(-1e15).min(1e15).cast<long long>();
+  }
+  static std::uint64_t cellKey(const Cell& c) {
+    const auto h = [](long long i) { return static_cast<std::uint64_t>(i); };
     return h(c(0)) * 0x9E3779B97F4A7C15ull ^ h(c(1)) * 0xC2B2AE3D27D4EB4Full ^
            h(c(2)) * 0x165667B19E3779F9ull;
   }
-  const Points& V_;
   double cell_;
+  std::vector<int> all_;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
