@@ -107,15 +107,21 @@ int zipRound(TriMesh& mesh) {
   std::vector<char> split(static_cast<std::size_t>(mesh.F.rows()), 0);
   std::vector<std::array<int, 3>> added;
   int edges = 0;
+  // The vertices tested are bounded in proportion to the boundary, whatever its edges'
+  // lengths: past the budget the rest of the edges are left as they are.
+  const std::size_t budget = 64 * (open.size() + vertices.size());
+  std::size_t tested = 0;
   for (int h : open) {
     const int f = h / 3, k = h % 3;
     if (split[f]) continue;
+    if (tested > budget) break;
     const int a = mesh.F(f, k), b = mesh.F(f, (k + 1) % 3), c = mesh.F(f, (k + 2) % 3);
     const Vec3 pa = mesh.V.row(a), pb = mesh.V.row(b);
     const double tolerance = kTJunctionTolerance * (pb - pa).norm();
     std::vector<std::pair<double, int>> onEdge;
     grid.forEachIn(pa.cwiseMin(pb).array() - tolerance, pa.cwiseMax(pb).array() + tolerance,
                    [&](int v) {
+                     ++tested;
                      if (v == a || v == b || v == c) return;
                      const double t = placeOn(mesh.V, a, b, v);
                      if (t > 0) onEdge.emplace_back(t, v);

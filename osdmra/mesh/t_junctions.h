@@ -19,8 +19,9 @@ constexpr double kTJunctionTolerance = 1e-6;
 
 /// Splits every boundary edge at the boundary vertices (not its own ends) that lie on
 /// it (kTJunctionTolerance), fanning its face from the opposite corner; returns how
-/// many edges were split. Nothing changes when the mesh has an index out of range or
-/// a repeated corner, which validate() reports.
+/// many edges were split. The work is bounded in proportion to the boundary's size
+/// (edges beyond that budget are left as they are). Nothing changes when the mesh has an index out
+/// of range or a repeated corner, which validate() reports.
 int zipTJunctions(TriMesh& mesh);
 
 }  // namespace osdmra
