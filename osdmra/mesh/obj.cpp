@@ -113,7 +113,8 @@ TriMesh readObj(std::istream& in, const std::string& source, const ReadOptions& 
       const std::size_t n = tokens.size() - 1;
       if (n > 3 && !options.triangulate)
         fail(where() + "face has " + std::to_string(n) +
-             " vertices; osdmra needs triangles (triangulate the mesh first)");
+             " vertices; osdmra needs triangles (triangulate the mesh first; remesh and --remesh "
+             "read polygons as triangles)");
       if (n < 3) fail(where() + "face has " + std::to_string(n) + " vertices; a face needs 3");
       const long long numV = static_cast<long long>(V.size() / 3);
       const long long numN = static_cast<long long>(VN.size() / 3);

@@ -122,7 +122,9 @@ TriMesh readOff(std::istream& in, const std::string& source, const ReadOptions& 
     if (!parseInt(tokens[0], count)) fail(where() + "bad vertex count " + quote(tokens[0]));
     if (count < 3 || (count > 3 && !options.triangulate))
       fail(where() + "has " + std::to_string(count) + " vertices; osdmra needs triangles" +
-           (count > 3 ? " (triangulate the mesh first)" : ""));
+           (count > 3
+                ? " (triangulate the mesh first; remesh and --remesh read polygons as triangles)"
+                : ""));
     if (static_cast<long long>(tokens.size()) - 1 < count)
       fail(where() + "expected " + std::to_string(count) + " vertex indices, found " +
            std::to_string(tokens.size() - 1));

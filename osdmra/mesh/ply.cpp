@@ -466,7 +466,9 @@ TriMesh readPlyData(Source& src, const PlyHeader& header, const ReadOptions& opt
           const long long n = src.readInt(p.countType);
           if (n < 3 || (n > 3 && !options.triangulate))
             src.error("has " + std::to_string(n) + " vertices; osdmra needs triangles" +
-                      (n > 3 ? " (triangulate the mesh first)" : ""));
+                      (n > 3 ? " (triangulate the mesh first; remesh and --remesh read polygons as "
+                               "triangles)"
+                             : ""));
           // A polygon (with ReadOptions::triangulate) is the fan from its first corner;
           // its corners are read as they come, so a false count costs only the bytes
           // the file has.
