@@ -138,6 +138,16 @@ int cmdRemesh(const Argv& argv) {
         "%s: welded %d boundary vertices onto others at the same position (%d faces "
         "left with a repeated corner dropped)\n",
         in.c_str(), r.welding.vertices, r.welding.faces);
+  if (r.repeatedCornerFaces > 0)
+    std::printf("%s: dropped %d faces that name a vertex twice\n", in.c_str(),
+                r.repeatedCornerFaces);
+  if (r.zippedEdges > 0)
+    std::printf("%s: split %d boundary edges at the vertices lying on them (T-junctions)\n",
+                in.c_str(), r.zippedEdges);
+  const ZeroAreaRepair& z = r.zeroArea;
+  if (z.flipped + z.dropped + z.collapsed > 0)
+    std::printf("%s: mended %d zero-area faces (%d flipped, %d dropped, %d collapsed)\n",
+                in.c_str(), z.flipped + z.dropped + z.collapsed, z.flipped, z.dropped, z.collapsed);
   printRemesh(in, r);
   std::printf("wrote %s\n", out.c_str());
   return 0;

@@ -372,6 +372,13 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
             std::string::npos)
       << cut.err;
   EXPECT_EQ(topology(readValidMesh(path("b.obj"))).components, 3);
+  // A CAD export's zero-area faces are mended, and the command says so.
+  writeMesh(path("fanned.off"), fannedCube(4));
+  const Result fanned =
+      run("remesh " + path("fanned.off") + " --base-faces 30 --levels 2 -o " + path("f.obj"));
+  ASSERT_EQ(fanned.status, 0) << fanned.err;
+  EXPECT_NE(fanned.out.find("mended 12 zero-area faces (12 flipped"), std::string::npos)
+      << fanned.out;
 }
 
 // ---- compress / decompress ---------------------------------------------------------
