@@ -41,8 +41,7 @@ class Args {
         if (name == "o") name = "output";
         if (valued.count(name)) {
           if (!inlineValue) {
-            if (i + 1 >= argv.size())
-              throw Error(command_ + "option --" + name + " needs a value");
+            if (i + 1 >= argv.size()) throw Error(command_ + "option --" + name + " needs a value");
             value = argv[++i];
           }
           values_[name] = value;
@@ -117,6 +116,7 @@ inline std::string withFlagNames(std::string message) {
       {"RemeshOptions::baseFaces", "--base-faces"},
       {"RemeshOptions::levels", "--levels"},
       {"RemeshOptions::featureAngle", "--feature-angle"},
+      {"InputOptions::minComponentFaces", "--min-component-faces"},
       {"AnalysisOptions::levels", "--levels"},
   };
   for (const auto& [option, flag] : names)

@@ -56,6 +56,7 @@ InputOptions inputOptions(const Args& args) {
   InputOptions o;
   o.remesh = args.has("remesh");
   if (o.remesh) o.remeshing = remeshOptions(args);
+  o.minComponentFaces = static_cast<int>(args.integer("min-component-faces", 0, 0, 1 << 30));
   o.distance = distanceOptions(args);
   return o;
 }

@@ -88,11 +88,11 @@ void plotSweep(const std::string& csv, const std::string& png, const std::string
 }  // namespace
 
 int cmdLod(const Argv& argv) {
-  Args args(
-      "lod", argv,
-      {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep", "importance",
-       "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
-      flags({"exact", "remesh"}));
+  Args args("lod", argv,
+            {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
+             "importance", "selection", "placement", "metric", "samples", "seed", "base-faces",
+             "feature-angle", "min-component-faces"},
+            flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
   const Common opt = common(args);
@@ -142,7 +142,8 @@ int cmdLod(const Argv& argv) {
 int cmdSweep(const Argv& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
-             "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle"},
+             "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle",
+             "min-component-faces"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
@@ -295,7 +296,8 @@ Json demoScheme(const DemoSetup& setup, const TriMesh& mesh, Scheme scheme,
 // to --out (default out/).
 int cmdDemo(const Argv& argv) {
   Args args("demo", argv,
-            {"rings", "out", "samples", "seed", "points", "base-faces", "levels", "feature-angle"},
+            {"rings", "out", "samples", "seed", "points", "base-faces", "levels", "feature-angle",
+             "min-component-faces"},
             flags({"remesh"}));
   if (args.positional().size() > 1)
     throw Error("demo: at most one input mesh (default: the bundled head)");

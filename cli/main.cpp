@@ -54,6 +54,7 @@ commands:
                                the base domain; --remesh as
                                for analyze (its distance reported apart)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
+                 [--min-component-faces F]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -62,7 +63,9 @@ commands:
                                with a warning on stderr (and in the JSON) if any
                                are, if the result is over 1% of the diagonal from
                                the input somewhere, or if the base has more faces
-                               than asked (it keeps tips of protrusions)
+                               than asked (it keeps tips of protrusions);
+                               components of fewer than F faces are dropped first
+                               (default 0: all kept)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
   mask IN --level j --vertex i [--scheme loop|linear]

@@ -43,6 +43,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("t_junction_edges_split", r.zippedEdges)
       .add("non_manifold_edges_cut", r.cutEdges)
       .add("reoriented_faces", r.reorientedFaces)
+      .add("small_components_dropped", r.smallComponentsDropped)
       .add("zero_area_faces", Json::object()
                                   .add("flipped", r.zeroArea.flipped)
                                   .add("dropped", r.zeroArea.dropped)

@@ -85,10 +85,35 @@ void measureRemeshing(const TriMesh& input, const std::string& source, const Inp
   for (std::string& w : remeshWarnings(r)) r.warnings.push_back(std::move(w));
 }
 
+// Components too small to be simplified (a scan's debris: a triangle is a base face of
+// its own) take base faces from the surface: said when they take a tenth of those asked.
+void warnOfDebris(const TriMesh& input, const InputOptions& options, RemeshReport& r) {
+  constexpr int kDebris = 16;  // faces
+  if (options.minComponentFaces >= kDebris || input.F.rows() == 0) return;
+  std::vector<int> size;
+  for (int c : componentOfFaces(input.F, static_cast<int>(input.V.rows()))) {
+    if (c >= static_cast<int>(size.size())) size.resize(c + 1, 0);
+    ++size[c];
+  }
+  int components = 0, faces = 0;
+  for (int n : size)
+    if (n < kDebris) {
+      ++components;
+      faces += n;
+    }
+  if (10 * faces < options.remeshing.baseFaces) return;
+  r.warnings.push_back(std::to_string(components) + " components of fewer than " +
+                       std::to_string(kDebris) + " faces (" + std::to_string(faces) +
+                       " faces in all; debris?) take up to " + std::to_string(faces) + " of the " +
+                       std::to_string(options.remeshing.baseFaces) +
+                       " base faces asked for; InputOptions::minComponentFaces " +
+                       std::to_string(kDebris) + " drops them");
+}
+
 // The repairs loadSurface makes to an input before remeshing it (mesh/mesh.h,
 // mesh/t_junctions.h, mesh/zero_area.h), in this order: each counted in `r`, and said
 // in a warning where a user should know.
-void repairInput(TriMesh& input, RemeshReport& r) {
+void repairInput(TriMesh& input, const InputOptions& options, RemeshReport& r) {
   r.repeatedCornerFaces = removeFacesWithRepeatedCorners(input);
   r.droppedVertices = removeUnreferencedVertices(input);
   r.duplicateFaces = removeDuplicateFaces(input);
@@ -98,9 +123,11 @@ void repairInput(TriMesh& input, RemeshReport& r) {
   r.reorientedFaces = orientConsistently(input);
   r.splitVertices = splitNonManifoldVertices(input);
   r.zeroArea = removeZeroAreaFaces(input);
+  r.smallComponentsDropped = removeSmallComponents(input, options.minComponentFaces);
   const auto warn = [&](bool when, const std::string& what) {
     if (when) r.warnings.push_back(what);
   };
+  warnOfDebris(input, options, r);
   warn(!r.welding.refused.empty(),
        "boundary vertices at the same position were left apart: welding them fails (" +
            r.welding.refused + ")");
@@ -140,7 +167,7 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     reading.triangulate = true;
     TriMesh input = readMesh(path, reading);
     RemeshReport r;
-    repairInput(input, r);
+    repairInput(input, options, r);
     validate(input, path);
     measureRemeshing(input, path, options, progress, r);
     s.remeshing = std::move(r);

@@ -40,6 +40,9 @@ struct InputOptions {
   /// connectivity (a scan, a model).
   bool remesh = false;
   RemeshOptions remeshing;
+  /// Connected components of fewer faces than this are dropped before remeshing (a
+  /// scan's debris); 0 keeps every component, as the remesher keeps the topology.
+  int minComponentFaces = 0;
   /// How the remeshing's distance to the input is sampled.
   DistanceOptions distance;
 };
@@ -63,6 +66,8 @@ struct RemeshReport {
   int zippedEdges = 0;
   /// Faces reversed to agree with their neighbours (orientConsistently).
   int reorientedFaces = 0;
+  /// Components of fewer than InputOptions::minComponentFaces faces dropped.
+  int smallComponentsDropped = 0;
   /// Zero-area faces mended (removeZeroAreaFaces: CAD exports' caps and needles).
   ZeroAreaRepair zeroArea;
   int requestedBaseFaces = 0;

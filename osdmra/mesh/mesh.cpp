@@ -545,4 +545,44 @@ int orientConsistently(TriMesh& mesh) {
   return static_cast<int>(flips.size());
 }
 
+std::vector<int> componentOfFaces(const Faces& F, int numVertices) {
+  std::vector<int> parent(static_cast<std::size_t>(numVertices));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(F(f, 0)), b = find(F(f, k));
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  // Components numbered in the order of their first face.
+  std::vector<int> number(static_cast<std::size_t>(numVertices), -1), out(F.rows());
+  int next = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    int& n = number[find(F(f, 0))];
+    if (n < 0) n = next++;
+    out[f] = n;
+  }
+  return out;
+}
+
+int removeSmallComponents(TriMesh& mesh, int minFaces) {
+  if (minFaces <= 1 || !hasWellFormedFaces(mesh)) return 0;
+  const std::vector<int> component = componentOfFaces(mesh.F, static_cast<int>(mesh.V.rows()));
+  std::vector<int> size;
+  for (int c : component) {
+    if (c >= static_cast<int>(size.size())) size.resize(c + 1, 0);
+    ++size[c];
+  }
+  Eigen::Index kept = 0;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    if (size[component[f]] >= minFaces) mesh.F.row(kept++) = mesh.F.row(f);
+  mesh.F.conservativeResize(kept, 3);
+  removeUnreferencedVertices(mesh);
+  return static_cast<int>(
+      std::count_if(size.begin(), size.end(), [&](int n) { return n < minFaces; }));
+}
+
 }  // namespace osdmra

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 namespace osdmra {
 
@@ -96,6 +97,16 @@ int cutNonManifoldEdges(TriMesh& mesh);
 /// (cutNonManifoldEdges first), or when the mesh has an index out of range or a
 /// repeated corner: validate() reports those.
 int orientConsistently(TriMesh& mesh);
+
+/// The connected component of every face (faces sharing a vertex are connected),
+/// numbered 0.. in the order of each component's first face. Indices must be in range.
+std::vector<int> componentOfFaces(const Faces& F, int numVertices);
+
+/// Drops every connected component of fewer than `minFaces` faces (a scan's debris:
+/// single triangles floating off the surface) and the vertices left unused; returns
+/// how many components were dropped. Nothing changes for minFaces <= 1, or when the
+/// mesh has an index out of range or a repeated corner.
+int removeSmallComponents(TriMesh& mesh, int minFaces);
 
 /// Diagonal of the axis-aligned bounding box (0 for an empty mesh).
 double boundingBoxDiagonal(const Points& V);

@@ -364,3 +364,23 @@ TEST(RepeatedCorners, FacesNamingAVertexTwiceGoAndTheRestStay) {
   EXPECT_EQ(removeFacesWithRepeatedCorners(m), 0);
   EXPECT_NO_THROW(validate(m, "tetrahedron"));
 }
+
+TEST(SmallComponents, DebrisGoesAndTheSurfaceStays) {
+  // A sphere with three loose triangles beside it.
+  const TriMesh sphere = subdivide(shapes::icosahedron(), 1, Scheme::Loop);
+  TriMesh m = sphere;
+  const int n = static_cast<int>(m.V.rows()), faces = static_cast<int>(m.F.rows());
+  m.V.conservativeResize(n + 9, 3);
+  m.F.conservativeResize(faces + 3, 3);
+  for (int t = 0; t < 3; ++t) {
+    for (int c = 0; c < 3; ++c) m.V.row(n + 3 * t + c) << 5 + t, c == 1, c == 2;
+    m.F.row(faces + t) << n + 3 * t, n + 3 * t + 1, n + 3 * t + 2;
+  }
+  const std::vector<int> component = componentOfFaces(m.F, static_cast<int>(m.V.rows()));
+  EXPECT_EQ(component.front(), 0);
+  EXPECT_EQ(component.back(), 3);
+  EXPECT_EQ(removeSmallComponents(m, 1), 0);  // nothing is smaller than one face
+  EXPECT_EQ(removeSmallComponents(m, 4), 3);
+  EXPECT_EQ(m.V, sphere.V);
+  EXPECT_EQ(m.F, sphere.F);
+}

@@ -351,3 +351,39 @@ TEST(LoadSurface, CutsNonManifoldEdgesOpenBeforeRemeshing) {
     said = said || w.find("were cut open") != std::string::npos;
   EXPECT_TRUE(said);
 }
+
+TEST(LoadSurface, SaysWhenDebrisTakesBaseFacesAndDropsItWhenAsked) {
+  // A sphere and 20 loose triangles: each would be a base face of its own.
+  TriMesh m = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  const int n = static_cast<int>(m.V.rows()), faces = static_cast<int>(m.F.rows());
+  m.V.conservativeResize(n + 60, 3);
+  m.F.conservativeResize(faces + 20, 3);
+  for (int t = 0; t < 20; ++t) {
+    for (int c = 0; c < 3; ++c)
+      m.V.row(n + 3 * t + c) << 3 + 0.1 * t, 0.05 * (c == 1), 0.05 * (c == 2);
+    m.F.row(faces + t) << n + 3 * t, n + 3 * t + 1, n + 3 * t + 2;
+  }
+  TempDir dir;
+  const std::string path = dir.file("debris.obj");
+  writeMesh(path, m);
+  InputOptions options;
+  options.remesh = true;
+  options.remeshing.baseFaces = 80;
+  options.remeshing.levels = 2;
+  options.distance.samples = 2000;
+  auto said = [](const RemeshReport& r) {
+    for (const std::string& w : r.warnings)
+      if (w.find("20 components of fewer than 16 faces") != std::string::npos &&
+          w.find("InputOptions::minComponentFaces 16") != std::string::npos)
+        return true;
+    return false;
+  };
+  const LoadedSurface kept = loadSurface(path, options);
+  EXPECT_TRUE(said(*kept.remeshing));
+  EXPECT_EQ(topology(kept.mesh).components, 21);
+  options.minComponentFaces = 16;
+  const LoadedSurface dropped = loadSurface(path, options);
+  EXPECT_FALSE(said(*dropped.remeshing));
+  EXPECT_EQ(dropped.remeshing->smallComponentsDropped, 20);
+  EXPECT_EQ(topology(dropped.mesh).components, 1);
+}
