@@ -14,6 +14,7 @@
 
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/connectivity.h"
+#include "osdmra/mesh/detail/edges.h"
 
 namespace osdmra {
 namespace {
@@ -372,8 +373,8 @@ Welding weldBoundaryVertices(TriMesh& mesh) {
     // Pinched vertices that welding makes are split again afterwards, and edges of
     // three faces that the input had are cut; an edge of three faces that welding would
     // make is refused (cutting it would undo the weld).
-    TriMesh split = welded, trial = welded, unwelded = mesh;
-    if (cutNonManifoldEdges(trial) <= cutNonManifoldEdges(unwelded)) cutNonManifoldEdges(split);
+    TriMesh split = welded, unwelded = mesh;
+    if (cutNonManifoldEdges(split) > cutNonManifoldEdges(unwelded)) split = welded;
     orientConsistently(split);
     splitNonManifoldVertices(split);
     validate(split, "the welded mesh");
@@ -440,31 +441,8 @@ int splitNonManifoldVertices(TriMesh& mesh) {
   return detachFans(mesh, pinched, false);
 }
 
-namespace {
-
-// Every halfedge h = 3 f + k (face f's edge from corner k to k + 1) keyed by its ends,
-// lower first, sorted by key (then by h): the halfedges of one undirected edge are
-// consecutive. For passes that must see edges of any number of faces, which
-// Connectivity does not build.
-std::vector<std::pair<std::uint64_t, int>> halfedgesByEdge(const Faces& F) {
-  std::vector<std::pair<std::uint64_t, int>> out(3 * static_cast<std::size_t>(F.rows()));
-  for (int h = 0; h < static_cast<int>(out.size()); ++h) {
-    const auto u = static_cast<std::uint32_t>(F(h / 3, h % 3)),
-               w = static_cast<std::uint32_t>(F(h / 3, (h % 3 + 1) % 3));
-    out[h] = {std::uint64_t{std::min(u, w)} << 32 | std::max(u, w), h};
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-// The end of the run of halfedges on the same edge as sorted[i].
-std::size_t runEnd(const std::vector<std::pair<std::uint64_t, int>>& sorted, std::size_t i) {
-  std::size_t end = i + 1;
-  while (end < sorted.size() && sorted[end].first == sorted[i].first) ++end;
-  return end;
-}
-
-}  // namespace
+using detail::halfedgesByEdge;
+using detail::runEnd;
 
 int cutNonManifoldEdges(TriMesh& mesh) {
   if (!hasWellFormedFaces(mesh)) return 0;

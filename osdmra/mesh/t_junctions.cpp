@@ -7,31 +7,24 @@
 #include <utility>
 #include <vector>
 
+#include "osdmra/mesh/detail/edges.h"
+
 namespace osdmra {
 
 namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-std::uint64_t key(int from, int to) {
-  return std::uint64_t{static_cast<std::uint32_t>(from)} << 32 | static_cast<std::uint32_t>(to);
-}
-
-// Halfedges h = 3 f + k (corner k to k + 1 of face f) alone on their edge: one sort of
-// the halfedges by their ends, lower first, and the runs of one.
+// Halfedges h = 3 f + k (corner k to k + 1 of face f) alone on their edge, in face
+// order.
 std::vector<int> boundaryHalfedges(const Faces& F) {
-  std::vector<std::pair<std::uint64_t, int>> byEdge(3 * static_cast<std::size_t>(F.rows()));
-  for (std::size_t h = 0; h < byEdge.size(); ++h) {
-    const int u = F(h / 3, h % 3), w = F(h / 3, (h % 3 + 1) % 3);
-    byEdge[h] = {key(std::min(u, w), std::max(u, w)), static_cast<int>(h)};
-  }
-  std::sort(byEdge.begin(), byEdge.end());
+  const std::vector<std::pair<std::uint64_t, int>> byEdge = detail::halfedgesByEdge(F);
   std::vector<int> out;
-  for (std::size_t i = 0; i < byEdge.size(); ++i)
-    if ((i == 0 || byEdge[i - 1].first != byEdge[i].first) &&
-        (i + 1 == byEdge.size() || byEdge[i + 1].first != byEdge[i].first))
-      out.push_back(byEdge[i].second);
-  std::sort(out.begin(), out.end());  // face order: the result does not depend on the sort
+  for (std::size_t i = 0, end; i < byEdge.size(); i = end) {
+    end = detail::runEnd(byEdge, i);
+    if (end - i == 1) out.push_back(byEdge[i].second);
+  }
+  std::sort(out.begin(), out.end());
   return out;
 }
 
