@@ -1,8 +1,10 @@
 #include "osdmra/remesh/simplify.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/removal.h"
@@ -63,6 +65,9 @@ class Simplifier {
   void result(Simplification& out);
 
  private:
+  // Why plan() refused a vertex, the furthest check reached (the counts make the
+  // warning when the base stays larger than asked).
+  enum Refusal { kShape, kPinch, kDistortion, kTopology, kCorner, kFeatureSide, kCurved, kRefusals };
   struct Candidate {
     double area, curvature;
     int v;
@@ -79,6 +84,7 @@ class Simplifier {
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
   void commit(int v, const Plan& p);
+  std::string whyKept();
   const StageLimits& limits() const { return stages_[stage_]; }
 
   const Points& V_;
@@ -92,6 +98,7 @@ class Simplifier {
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
   int aliveFaces_ = 0, plans_ = 0;
+  int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
   std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
   std::vector<RemovalRecord> removals_;
@@ -171,7 +178,9 @@ bool Simplifier::hasEdge(int a, int b) const {
 // Flattens v's ring, retriangulates it and certifies the result (removal.h); then
 // the points of the old faces are placed in the new ones and the distortion checked.
 bool Simplifier::plan(int v, Ring r, Plan& p) {
+  refusal_ = kCorner;
   if (!removable(v, r)) return false;
+  refusal_ = kShape;
   const int m = r.numFaces();
   // Feature line through v: rotate so that verts[0] is one feature neighbour.
   p.featureAt = -1;
@@ -184,7 +193,10 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
       std::rotate(r.faces.begin(), r.faces.begin() + fi[0], r.faces.end());
       r.verts[m] = r.verts[0];
       p.featureAt = fi[1] - fi[0];
-      if (p.featureAt < 2 || m - p.featureAt < 2) return false;  // two faces per side
+      if (p.featureAt < 2 || m - p.featureAt < 2) {  // two faces per side
+        refusal_ = kFeatureSide;
+        return false;
+      }
     }
   }
   p.ring = std::move(r);
@@ -194,7 +206,10 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
   // A strongly curved one-ring (a cone tip, a saddle) flattens with much distortion:
   // keep such vertices while flatter ones remain. Folds of a scan go at any exponent.
   const double a = p.flat.exponent;
-  if (!fold_[v] && (a > limits().power || a < 1 / limits().power)) return false;
+  if (!fold_[v] && (a > limits().power || a < 1 / limits().power)) {
+    refusal_ = kCurved;
+    return false;
+  }
   // The ear clipping's triangulation first; where it is refused, the fans from each
   // corner (a ring without a feature line) before the removal is deferred.
   double worst = 0;
@@ -203,7 +218,10 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
   if (p.featureAt >= 0) return false;
   const int numPoints = static_cast<int>(p.flat.points.size());
   const int corners = p.ring.boundary ? numPoints : numPoints - 1;
-  if (corners <= 3) return false;
+  if (corners <= 3) {
+    refusal_ = kTopology;  // a ring of three: removing v would close a tetrahedron's hole
+    return false;
+  }
   // Of the fans that pass, the one from the corner of lowest valence (kept whole: a
   // later trial overwrites the plan's placed points).
   std::size_t best = std::numeric_limits<std::size_t>::max();
@@ -244,8 +262,12 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
       const bool ringEdge =
           hi - lo == 1 || (lo == 0 && (hi == m - 1 || hi == closing) && !p.ring.boundary);
       const int x = p.vertex(ka), y = p.vertex(kb);
-      if (x == y || (!ringEdge && hasEdge(x, y))) return false;
+      if (x == y || (!ringEdge && hasEdge(x, y))) {
+        refusal_ = std::max(refusal_, static_cast<int>(kPinch));
+        return false;
+      }
     }
+  refusal_ = std::max(refusal_, static_cast<int>(kDistortion));
   if (!placePoints(v, p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
   return worst <= limits().anisotropy;
@@ -442,13 +464,45 @@ void Simplifier::run(int target, const Progress& progress, Simplification& out) 
   }
   out.rounds = round;
   out.stage = static_cast<int>(stage_);
-  if (aliveFaces_ > target)
-    out.stopReason =
-        "no vertex can be removed without changing the topology, cutting a feature "
-        "line's corner, leaving a feature line with one face on a side, flattening the "
-        "tip of a protrusion (a one-ring under 192 degrees) or distorting the "
-        "parameterisation beyond the last stage's bounds";
+  if (aliveFaces_ > target) out.stopReason = whyKept();
   if (progress) progress("simplify", 1.0);
+}
+
+// Why every vertex left is kept, counted by reason: the warning a user gets when the
+// base stays larger than asked, so that they know what to change (the feature angle,
+// the input's tips, its slivers).
+std::string Simplifier::whyKept() {
+  std::array<int, kRefusals> count{};
+  int left = 0;
+  for (int v = 0; v < V_.rows(); ++v) {
+    if (removed_[v]) continue;
+    ++left;
+    Ring r;
+    Plan p;
+    if (!ring(v, r)) {
+      ++count[kTopology];
+    } else if (plan(v, std::move(r), p)) {
+      ++count[kShape];  // unreachable once the stages are spent; counted, not hidden
+    } else {
+      ++count[refusal_];
+    }
+  }
+  static const char* const kWhy[kRefusals] = {
+      "no retriangulation of their one-ring has every angle above the last stage's bound",
+      "every retriangulation would join two vertices already joined (a pinch)",
+      "removing them would distort the parameterisation beyond the last stage's bounds",
+      "their removal would change the topology (a one-ring of three faces, or not a disc)",
+      "they are corners or ends of feature lines, corners of boundaries, or have over 24 faces",
+      "a feature line through them would keep one face on a side",
+      "their one-ring is too curved to flatten (a tip under 192 degrees, or a saddle)"};
+  std::string why = "no vertex can be removed: of the " + std::to_string(left) + " left,";
+  bool first = true;
+  for (int k = 0; k < kRefusals; ++k)
+    if (count[k] > 0) {
+      why += std::string(first ? " " : "; ") + std::to_string(count[k]) + " because " + kWhy[k];
+      first = false;
+    }
+  return why;
 }
 
 void Simplifier::result(Simplification& out) {

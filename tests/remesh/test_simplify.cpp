@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/distortion.h"
@@ -93,7 +95,26 @@ TEST(Simplify, StrictStagesStopEarlyAndSayWhy) {
   const std::vector<StageLimits> none = {{1.0, 89.0, 1.0}};
   const Simplification s = simplify(input, detectFeatures(input, 70.0), 20, {}, none);
   EXPECT_EQ(s.base.F.rows(), input.F.rows());
-  EXPECT_FALSE(s.stopReason.empty());
+  // Every vertex left is counted under one reason.
+  const std::string head = "of the " + std::to_string(input.V.rows()) + " left, ";
+  const std::size_t at = s.stopReason.find(head);
+  ASSERT_NE(at, std::string::npos) << s.stopReason;
+  std::istringstream counts(s.stopReason.substr(at + head.size()));
+  long long sum = 0, n = 0;
+  std::string rest;
+  while (counts >> n && std::getline(counts, rest, ';')) sum += n;
+  EXPECT_EQ(sum, input.V.rows()) << s.stopReason;
+}
+
+TEST(Simplify, SaysWhichVerticesStopItAndWhy) {
+  // A cube's sides split flat, 4 faces asked: the base keeps the 8 corners, and the
+  // warning counts them as the feature lines' corners.
+  const TriMesh input = subdivide(unitCube(), 2, Scheme::Linear, 0.0, 1);
+  const Simplification s = simplify(input, detectFeatures(input, 70.0), 4);
+  EXPECT_LE(s.base.F.rows(), 16);
+  const std::string left = "of the " + std::to_string(s.base.V.rows()) + " left";
+  EXPECT_NE(s.stopReason.find(left), std::string::npos) << s.stopReason;
+  EXPECT_NE(s.stopReason.find("8 because they are corners"), std::string::npos) << s.stopReason;
 }
 
 TEST(Simplify, TracingBackIsTheExactInverse) {
