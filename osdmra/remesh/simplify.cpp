@@ -67,7 +67,16 @@ class Simplifier {
  private:
   // Why plan() refused a vertex, the furthest check reached (the counts make the
   // warning when the base stays larger than asked).
-  enum Refusal { kShape, kPinch, kDistortion, kTopology, kCorner, kFeatureSide, kCurved, kRefusals };
+  enum Refusal {
+    kShape,
+    kPinch,
+    kDistortion,
+    kTopology,
+    kCorner,
+    kFeatureSide,
+    kCurved,
+    kRefusals
+  };
   struct Candidate {
     double area, curvature;
     int v;
