@@ -68,6 +68,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("flipped_triangles", r.result.flippedTriangles)
       .add("degenerate_triangles", r.result.degenerateTriangles)
       .add("self_intersections", r.result.selfIntersections)
+      .add("self_intersections_at_input_crossings", r.result.selfIntersectionsAtInputCrossings)
       .add("rms_relative", r.distance.rmsRelative)
       .add("hausdorff_relative", r.distance.hausdorffRelative)
       .add("seconds", r.seconds)

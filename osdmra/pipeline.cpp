@@ -39,6 +39,10 @@ std::vector<std::string> remeshWarnings(const RemeshReport& r) {
     out.push_back(std::to_string(x.flippedTriangles) + " flipped, " +
                   std::to_string(x.degenerateTriangles) + " zero-area triangles and " +
                   std::to_string(x.selfIntersections) + " crossing pairs are left" +
+                  (x.selfIntersectionsAtInputCrossings > 0
+                       ? ", " + std::to_string(x.selfIntersectionsAtInputCrossings) +
+                             " of them where the input crosses itself"
+                       : std::string()) +
                   (r.inputSelfIntersections > 0
                        ? " (the input itself has " + std::to_string(r.inputSelfIntersections) +
                              " crossing pairs)"

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The robustness table of docs/REMESH.md: remeshes every mesh of ../shared/data/scans
 # (or $SCANS) over 150, 300 and 600 base faces at J = 4 and 5 and prints, for each, the
-# base size obtained, what is left (flipped, zero-area, crossing triangles), how much the
+# base size obtained, what is left (flipped, zero-area, crossing triangles; of those, the
+# pairs where the input crosses itself), how much the
 # clean-up had to move, the distances to the input, whether genus, boundary loops and
 # components were kept, and the time of remesh().
 #
@@ -41,8 +42,10 @@ j = json.loads(sys.argv[1]); a = json.loads(sys.argv[2])['mesh']; b = json.loads
 keys = ('genus', 'boundary_loops', 'components')
 kept = 'yes' if all(a[k] == b[k] for k in keys) else 'NO (' + ', '.join(f'{k} {a[k]}->{b[k]}' for k in keys if a[k] != b[k]) + ')'
 c = j['clean_up']
+own = j.get('self_intersections_at_input_crossings', 0)
+crossing = f\"{j['self_intersections']}\" + (f\" ({own} the input's)\" if own else '')
 print(f\"| $name | {j['input_faces']} | $n | {j['base_faces']} | $J | {j['flipped_triangles']} | {j['degenerate_triangles']} | \"
-      f\"{j['self_intersections']} | {c['moved_points']} | {100*j['rms_relative']:.4f}% | {100*j['hausdorff_relative']:.3f}% | {kept} | \"
+      f\"{crossing} | {c['moved_points']} | {100*j['rms_relative']:.4f}% | {100*j['hausdorff_relative']:.3f}% | {kept} | \"
       f\"{j['seconds']:.2f} |\")" "$json" "$topo_in" "$topo_out"
     done
   done

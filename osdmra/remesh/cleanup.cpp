@@ -109,6 +109,12 @@ class Cleaner {
   int crossings(int v) const;
   std::pair<int, double> quality(int v) const;
   void updateCrossings();
+  bool foldedTogether(int a, int b) const;
+  bool atInputCrossing(Eigen::Index f);
+  bool inputsOwn(const std::array<int, 2>& pair) {
+    return atInputCrossing(pair[0]) && atInputCrossing(pair[1]);
+  }
+  long long reportCrossings();
   long long countDefects();
   double farthest(const std::vector<char>& relaxFace) const;
   void countBad();
@@ -164,6 +170,9 @@ class Cleaner {
   // The crossing pairs (f < g, sorted) as of the points touched_ since they were counted.
   std::vector<std::array<int, 2>> crossings_;
   bool crossingsKnown_ = false;
+  // Input faces that cross another face of the input, and the faces around their
+  // corners (atInputCrossing); found once, when the output first has crossing pairs.
+  std::vector<char> inputCrossing_;
   std::vector<int> touched_;
   std::vector<char> isTouched_;
 };
@@ -312,14 +321,64 @@ void Cleaner::updateCrossings() {
   touched_.clear();
 }
 
-// What is left over the whole surface: the bad faces and the faces of crossing pairs,
-// kept in flagged_; their number, and the count of crossing pairs reported.
+// Whether input faces a and b are a few faces apart: a corner of b is a corner of a face
+// around a corner of a. Crossing so, they are a fold of a scan (a vertex dragged over its
+// neighbour), which sampling over it removes; farther apart, two sheets cross.
+bool Cleaner::foldedTogether(int a, int b) const {
+  const auto& start = inputAround_.start;
+  const auto& at = inputAround_.faces;
+  for (int k = 0; k < 3; ++k)
+    for (int q = start[input_.F(a, k)]; q < start[input_.F(a, k) + 1]; ++q)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (input_.F(at[q], i) == input_.F(b, j)) return true;
+  return false;
+}
+
+// Whether output face f stands where the input crosses itself: one of its corners was
+// sampled on an input face that crosses another, not folded together with it, or shares
+// a corner with one. A pair of
+// such faces crossing is the input's own crossing, sampled: no placement of points on
+// the input undoes it (a teapot's spout through its body), so the repairs leave it
+// alone instead of spending their budgets on it, and it is reported apart.
+bool Cleaner::atInputCrossing(Eigen::Index f) {
+  if (inputCrossing_.empty()) {
+    inputCrossing_.assign(static_cast<std::size_t>(input_.F.rows()), 0);
+    const auto& start = inputAround_.start;
+    const auto& at = inputAround_.faces;
+    for (const auto& pair : findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs)
+      if (!foldedTogether(pair[0], pair[1]))
+        for (int g : pair)
+          for (int k = 0; k < 3; ++k)
+            for (int q = start[input_.F(g, k)]; q < start[input_.F(g, k) + 1]; ++q)
+              inputCrossing_[at[q]] = 1;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const int t = where_[m_.F(f, k)].triangle;
+    if (t >= 0 && inputCrossing_[t]) return true;
+  }
+  return false;
+}
+
+// Sets the crossing counts reported from crossings_; returns the pairs that are the
+// remesher's (not the input's own).
+long long Cleaner::reportCrossings() {
+  long long own = 0;
+  for (const auto& pair : crossings_) own += inputsOwn(pair);
+  out_.selfIntersections = static_cast<long long>(crossings_.size());
+  out_.selfIntersectionsAtInputCrossings = own;
+  return out_.selfIntersections - own;
+}
+
+// What is left over the whole surface: the bad faces and the faces of crossing pairs
+// that are not the input's own, kept in flagged_; their number. Sets the counts of
+// crossing pairs reported.
 long long Cleaner::countDefects() {
   updateCrossings();
-  out_.selfIntersections = static_cast<long long>(crossings_.size());
+  long long count = reportCrossings();
   flagged_.clear();
-  for (const auto& pair : crossings_) flagged_.insert(flagged_.end(), pair.begin(), pair.end());
-  long long count = out_.selfIntersections;
+  for (const auto& pair : crossings_)
+    if (!inputsOwn(pair)) flagged_.insert(flagged_.end(), pair.begin(), pair.end());
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f)
     if (bad(f)) {
       flagged_.push_back(f);
@@ -851,7 +910,7 @@ void Cleaner::relaxWhatIsLeft() {
       m_.V = keptV;
       where_ = keptWhere;
       crossings_ = keptCrossings;
-      out_.selfIntersections = static_cast<long long>(crossings_.size());
+      reportCrossings();
       for (int v : touched_) isTouched_[v] = 0;
       touched_.clear();
       break;
@@ -870,7 +929,8 @@ void Cleaner::run(const Progress& progress) {
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f)
     if (bad(f)) left_.push_back(f);
   updateCrossings();
-  for (const auto& pair : crossings_) left_.insert(left_.end(), pair.begin(), pair.end());
+  for (const auto& pair : crossings_)
+    if (!inputsOwn(pair)) left_.insert(left_.end(), pair.begin(), pair.end());
   sortUnique(left_);
   repair();
   relaxWhatIsLeft();

@@ -75,6 +75,10 @@ struct Remeshing {
   /// Pairs of triangles of `mesh` that cross without being neighbours
   /// (findSelfIntersections); 0 is the goal.
   long long selfIntersections = 0;
+  /// Of those, the pairs where the input crosses itself: both triangles have a corner
+  /// on an input face that crosses another input face or shares a corner with one. A
+  /// remesh on such an input cannot avoid them; the clean-up leaves them alone.
+  long long selfIntersectionsAtInputCrossings = 0;
 };
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).

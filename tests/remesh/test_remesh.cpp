@@ -150,6 +150,28 @@ TEST(Remesh, FoldedInputComesOutClean) {
   EXPECT_EQ(topology(r.mesh).euler, 2);
 }
 
+// Two spheres through each other, one mesh: the remesh crosses itself where the input
+// does, and nowhere else. Those pairs are the input's own (reported apart), so the
+// clean-up leaves them, and the exact map is not tried for them.
+TEST(Remesh, CrossingsOfTheInputAreReportedAsItsOwnAndLeftAlone) {
+  const TriMesh sphere = subdivide(shapes::icosahedron(), 3, Scheme::Loop);
+  TriMesh input;
+  input.V.resize(2 * sphere.V.rows(), 3);
+  input.F.resize(2 * sphere.F.rows(), 3);
+  input.V << sphere.V, sphere.V.rowwise() + Eigen::RowVector3d(0.8, 0.1, 0.05);
+  input.F << sphere.F, sphere.F.array() + static_cast<int>(sphere.V.rows());
+  ASSERT_GT(findSelfIntersections(input).count, 0);
+  RemeshOptions o;
+  o.baseFaces = 80;
+  o.levels = 3;
+  const Remeshing r = remesh(input, o);
+  EXPECT_GT(r.selfIntersections, 0);
+  EXPECT_EQ(r.selfIntersectionsAtInputCrossings, r.selfIntersections);
+  EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
+  EXPECT_EQ(r.cleanupMovedPoints, 0);
+  EXPECT_EQ(r.exactDefects, -1);
+}
+
 // Where the straightened map (resample.h) leaves defects after the clean-up, the exact
 // inverse of the removals is tried as well and kept only if it leaves fewer: a coarse
 // torus (192 faces, displaced by a fiftieth of its size) over 20 base faces at J = 3,
