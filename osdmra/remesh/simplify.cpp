@@ -13,7 +13,7 @@ namespace osdmra::remeshing {
 
 const std::vector<StageLimits> kStages = {
     {2, 15, 1.5},   {3, 15, 1.5},   {4, 12, 1.5},   {6, 10, 1.5},         {8, 10, 1.5},
-    {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875}, {24, 5, 1.875, true},
+    {12, 8, 1.875}, {16, 6, 1.875}, {24, 5, 1.875}, {24, 5, 1.875, true}, {24, 5, 1.875, true, 15},
 };
 
 namespace {
@@ -59,6 +59,12 @@ class Simplifier {
     movedStamp_.assign(n, -1);
     movedIndex_.assign(n, -1);
     checkedStamp_.assign(m.F.rows(), -1);
+    smallestAngle_.resize(m.F.rows());
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      const auto flat = layFlat(m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
+                                m.V.row(m.F(f, 2)).transpose());
+      smallestAngle_[f] = smallestAngle(flat[0], flat[1], flat[2]) * 180 / kPi;
+    }
   }
 
   void run(int target, const Progress& progress, Simplification& out);
@@ -109,7 +115,8 @@ class Simplifier {
   int aliveFaces_ = 0, plans_ = 0;
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
-  std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
+  std::vector<double> smallestAngle_;  // per input face, degrees
+  std::vector<int> checkedStamp_;      // per input face: the plan that last checked it
   std::vector<RemovalRecord> removals_;
   std::vector<int> removalOf_, triangleOf_;
 };
@@ -353,6 +360,8 @@ double Simplifier::distortion(const Plan& p) {
       std::array<Vec3, 3> corners;
       for (int c = 0; c < 3; ++c) corners[c] = V_.row(inputF_(t, c)).transpose();
       const double a = anisotropy(corners, image);
+      if (smallestAngle_[t] < limits().sliverAngle && a < std::numeric_limits<double>::infinity())
+        continue;
       if (!(a <= limits().anisotropy)) return std::numeric_limits<double>::infinity();
       worst = std::max(worst, a);
     }

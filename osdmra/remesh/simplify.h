@@ -39,6 +39,12 @@ struct StageLimits {
   /// as CAD exports are (a cylinder's side one strip of 1-degree triangles, caps fanned
   /// into their centres), have no removal whose new faces all meet any fixed bound.
   bool orAsSkinnyAsReplaced = false;
+  /// Input triangles with an angle under this, in degrees, are exempt from the
+  /// anisotropy bound (not from keeping their orientation): a sliver's anisotropy
+  /// measures its own thinness, a ratio its image's tiny width changes by any amount,
+  /// more than the map's distortion, which its well-shaped neighbours still bound; and
+  /// a sample landing in it moves by less than its width.
+  double sliverAngle = 0;
 };
 
 /// The stages, strictest first. Every stage checks every input triangle with a corner
