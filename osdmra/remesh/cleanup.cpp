@@ -110,9 +110,16 @@ class Cleaner {
   std::pair<int, double> quality(int v) const;
   void updateCrossings();
   bool foldedTogether(int a, int b) const;
-  bool atInputCrossing(Eigen::Index f);
+  // What an input face's crossing is (atInputCrossing): 1 a fold, 2 two sheets.
+  enum InputCrossing : char { kNone, kFold, kSheets };
+  bool atInputCrossing(Eigen::Index f, InputCrossing kind);
+  // A pair at the input's crossings, reported as its own.
   bool inputsOwn(const std::array<int, 2>& pair) {
-    return atInputCrossing(pair[0]) && atInputCrossing(pair[1]);
+    return atInputCrossing(pair[0], kFold) && atInputCrossing(pair[1], kFold);
+  }
+  // A pair where two sheets of the input cross, which the repairs leave alone.
+  bool sheetsCross(const std::array<int, 2>& pair) {
+    return atInputCrossing(pair[0], kSheets) && atInputCrossing(pair[1], kSheets);
   }
   long long reportCrossings();
   long long countDefects();
@@ -171,7 +178,8 @@ class Cleaner {
   std::vector<std::array<int, 2>> crossings_;
   bool crossingsKnown_ = false;
   // Input faces that cross another face of the input, and the faces around their
-  // corners (atInputCrossing); found once, when the output first has crossing pairs.
+  // corners: InputCrossing (atInputCrossing); found once, when the output first has
+  // crossing pairs.
   std::vector<char> inputCrossing_;
   std::vector<int> touched_;
   std::vector<char> isTouched_;
@@ -335,39 +343,45 @@ bool Cleaner::foldedTogether(int a, int b) const {
   return false;
 }
 
-// Whether output face f stands where the input crosses itself: one of its corners was
-// sampled on an input face that crosses another, not folded together with it, or shares
-// a corner with one. A pair of
-// such faces crossing is the input's own crossing, sampled: no placement of points on
-// the input undoes it (a teapot's spout through its body), so the repairs leave it
-// alone instead of spending their budgets on it, and it is reported apart.
-bool Cleaner::atInputCrossing(Eigen::Index f) {
+// Whether output face f stands where the input crosses itself, as `kind` at least: one
+// of its corners was sampled on an input face that crosses another, or shares a corner
+// with one. A pair of such faces crossing is the input's own crossing, sampled, and is
+// reported apart. Where two sheets cross (faces not folded together), no placement of
+// points on the input undoes it (a teapot's spout through its body), so the repairs
+// leave it alone instead of spending their budgets on it; a fold they still try, as
+// sampling over it can lie flat (a crumple of a scan as fine as the grid cannot).
+bool Cleaner::atInputCrossing(Eigen::Index f, InputCrossing kind) {
   if (inputCrossing_.empty()) {
-    inputCrossing_.assign(static_cast<std::size_t>(input_.F.rows()), 0);
+    inputCrossing_.assign(static_cast<std::size_t>(input_.F.rows()), kNone);
     const auto& start = inputAround_.start;
     const auto& at = inputAround_.faces;
-    for (const auto& pair : findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs)
-      if (!foldedTogether(pair[0], pair[1]))
-        for (int g : pair)
-          for (int k = 0; k < 3; ++k)
-            for (int q = start[input_.F(g, k)]; q < start[input_.F(g, k) + 1]; ++q)
-              inputCrossing_[at[q]] = 1;
+    for (const auto& pair : findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs) {
+      const char mark = foldedTogether(pair[0], pair[1]) ? kFold : kSheets;
+      for (int g : pair)
+        for (int k = 0; k < 3; ++k)
+          for (int q = start[input_.F(g, k)]; q < start[input_.F(g, k) + 1]; ++q)
+            inputCrossing_[at[q]] = std::max(inputCrossing_[at[q]], mark);
+    }
   }
   for (int k = 0; k < 3; ++k) {
     const int t = where_[m_.F(f, k)].triangle;
-    if (t >= 0 && inputCrossing_[t]) return true;
+    if (t >= 0 && inputCrossing_[t] >= kind) return true;
   }
   return false;
 }
 
-// Sets the crossing counts reported from crossings_; returns the pairs that are the
-// remesher's (not the input's own).
+// Sets the crossing counts reported from crossings_; returns the pairs the repairs
+// work on (not where two sheets of the input cross).
 long long Cleaner::reportCrossings() {
-  long long own = 0;
-  for (const auto& pair : crossings_) own += inputsOwn(pair);
+  long long own = 0, sheets = 0;
+  for (const auto& pair : crossings_) {
+    own += inputsOwn(pair);
+    sheets += sheetsCross(pair);
+  }
   out_.selfIntersections = static_cast<long long>(crossings_.size());
   out_.selfIntersectionsAtInputCrossings = own;
-  return out_.selfIntersections - own;
+  out_.selfIntersectionsWhereSheetsCross = sheets;
+  return out_.selfIntersections - sheets;
 }
 
 // What is left over the whole surface: the bad faces and the faces of crossing pairs
@@ -378,7 +392,7 @@ long long Cleaner::countDefects() {
   long long count = reportCrossings();
   flagged_.clear();
   for (const auto& pair : crossings_)
-    if (!inputsOwn(pair)) flagged_.insert(flagged_.end(), pair.begin(), pair.end());
+    if (!sheetsCross(pair)) flagged_.insert(flagged_.end(), pair.begin(), pair.end());
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f)
     if (bad(f)) {
       flagged_.push_back(f);
@@ -930,7 +944,7 @@ void Cleaner::run(const Progress& progress) {
     if (bad(f)) left_.push_back(f);
   updateCrossings();
   for (const auto& pair : crossings_)
-    if (!inputsOwn(pair)) left_.insert(left_.end(), pair.begin(), pair.end());
+    if (!sheetsCross(pair)) left_.insert(left_.end(), pair.begin(), pair.end());
   sortUnique(left_);
   repair();
   relaxWhatIsLeft();

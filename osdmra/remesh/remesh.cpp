@@ -60,7 +60,7 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
 // What another grid map could mend: the input's own crossings stay under any.
 long long defectsLeft(const Remeshing& r) {
   return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
-         r.selfIntersectionsAtInputCrossings;
+         r.selfIntersectionsWhereSheetsCross;
 }
 
 }  // namespace

@@ -76,9 +76,11 @@ struct Remeshing {
   /// (findSelfIntersections); 0 is the goal.
   long long selfIntersections = 0;
   /// Of those, the pairs where the input crosses itself: both triangles have a corner
-  /// on an input face that crosses another input face or shares a corner with one. A
-  /// remesh on such an input cannot avoid them; the clean-up leaves them alone.
+  /// on an input face that crosses another input face or shares a corner with one.
   long long selfIntersectionsAtInputCrossings = 0;
+  /// Of those, the pairs where two sheets of the input cross (faces farther apart than
+  /// a fold's): no remesh on the input avoids them, and the clean-up leaves them alone.
+  long long selfIntersectionsWhereSheetsCross = 0;
 };
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).

@@ -167,6 +167,7 @@ TEST(Remesh, CrossingsOfTheInputAreReportedAsItsOwnAndLeftAlone) {
   const Remeshing r = remesh(input, o);
   EXPECT_GT(r.selfIntersections, 0);
   EXPECT_EQ(r.selfIntersectionsAtInputCrossings, r.selfIntersections);
+  EXPECT_EQ(r.selfIntersectionsWhereSheetsCross, r.selfIntersections);
   EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
   EXPECT_EQ(r.cleanupMovedPoints, 0);
   EXPECT_EQ(r.exactDefects, -1);
