@@ -2,7 +2,7 @@
 // Google's Draco in the same run, on one mesh: one CSV row per stream.
 //
 //   osdmra_codec_rd MESH --csv OUT.csv [--name NAME] [--remesh --base-faces N --levels J]
-//                   [--scheme loop|linear] [--wavelets fixed|quasi|lazy] [--rings R]
+//                   [--scheme auto|loop|linear] [--wavelets fixed|quasi|lazy] [--rings R]
 //                   [--tangent-weight W]
 //                   [--level-gain G] [--rates B1,B2,...] [--no-draco]
 //
@@ -176,7 +176,7 @@ int main(int argc, char** argv) try {
   AnalysisOptions options;
   options.approximator = false;
   options.norms = false;
-  options.scheme = parseScheme(args.get("scheme", "loop"));
+  const std::string scheme = args.get("scheme", "auto");  // auto: as `osdmra compress`
   // The default of `osdmra compress`: fixed wavelets.
   options.wavelets.kind = parseWaveletKind(args.get("wavelets", "fixed"));
   options.wavelets.rings = static_cast<int>(args.integer("rings", options.wavelets.rings, 0, 8));
@@ -185,6 +185,8 @@ int main(int argc, char** argv) try {
   codec.tangentWeight = args.real("tangent-weight", codec.tangentWeight, 1e-3, 1);
   codec.levelGain = args.real("level-gain", codec.levelGain, 1, 4);
   codec.measureSurface = false;  // measured below, outside the timing
+  options.scheme =
+      scheme == "auto" ? chooseCodingScheme(s.mesh, options, codec).scheme : parseScheme(scheme);
 
   auto t0 = Clock::now();
   const AnalysedSurface a(s.mesh, options);

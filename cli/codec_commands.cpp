@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <optional>
 
 #include "commands.h"
 #include "common.h"
@@ -76,6 +77,13 @@ int cmdCompress(const Argv& argv) {
   const auto t0 = Clock::now();
   const LoadedSurface s = loadInput(in, args, opt);
   const double tRead = seconds(t0);
+  // Without --scheme, the one whose whole stream is shorter on this surface.
+  std::optional<CodingSchemeChoice> choice;
+  if (!args.has("scheme")) {
+    choice = chooseCodingScheme(s.mesh, options, codec, in);
+    options.scheme = choice->scheme;
+  }
+  const double tChoose = seconds(t0) - tRead;
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const long long vertices = a.hierarchy().numVertices(a.levels());
   const RateTarget target = rateTarget(args, vertices);
@@ -95,11 +103,21 @@ int cmdCompress(const Argv& argv) {
         "%zu bytes\n",
         out.c_str(), z.bytes.size(), bitsPerVertex(z.bytes.size(), vertices), z.psnrSurface,
         z.wholeBytes);
-    std::printf("time: read %.3f s, analysis %.3f s, encoding %.3f s\n", tRead, a.times().total(),
-                tEncode);
+    if (choice)
+      std::printf(
+          "scheme %s: its whole stream is %zu bytes, the other's %zu (--scheme forces one)\n",
+          schemeName(choice->scheme), std::min(choice->loopBytes, choice->linearBytes),
+          std::max(choice->loopBytes, choice->linearBytes));
+    std::printf("time: read %.3f s, choosing the scheme %.3f s, analysis %.3f s, encoding %.3f s\n",
+                tRead, tChoose, a.times().total(), tEncode);
     return 0;
   }
   Json j = startJson(s);
+  if (choice)
+    j.add("scheme_choice",
+          Json::object()
+              .add("loop_whole_bytes", static_cast<long long>(choice->loopBytes))
+              .add("linear_whole_bytes", static_cast<long long>(choice->linearBytes)));
   std::cout << j.add("command", "compress")
                    .add("input", in)
                    .add("output", out)

@@ -91,7 +91,10 @@ commands:
                                diagonal, default 1e-5); any other manifold mesh with
                                --remesh as for analyze; wavelets fixed by default
                                (quasi-wavelets' weights of the regular lattice: no
-                               solve when decoding), or W = quasi (with --rings), lazy
+                               solve when decoding), or W = quasi (with --rings), lazy;
+                               scheme S loop or linear, by default the one whose whole
+                               stream is shorter on this surface (Loop on smooth ones,
+                               linear on remeshes of scans, flat in each input triangle)
   decompress IN.osz -o OUT [--bytes N]
                                decode the stream, or only its first N bytes (every
                                prefix holding the header and base mesh decodes)

@@ -308,4 +308,19 @@ LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions&
   return e;
 }
 
+CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
+                                      CodecOptions codec, const std::string& source) {
+  codec.measureSurface = false;
+  auto wholeStream = [&](Scheme scheme) {
+    options.scheme = scheme;
+    const AnalysedSurface a(mesh, options, source);
+    return compress(a.bank(), a.decomposition(), a.canonicalPositions(), {}, codec).wholeBytes;
+  };
+  CodingSchemeChoice c;
+  c.loopBytes = wholeStream(Scheme::Loop);
+  c.linearBytes = wholeStream(Scheme::Linear);
+  c.scheme = c.linearBytes < c.loopBytes ? Scheme::Linear : Scheme::Loop;
+  return c;
+}
+
 }  // namespace osdmra

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "osdmra/base/progress.h"
+#include "osdmra/codec/codec.h"
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/mesh/zero_area.h"
@@ -188,5 +189,18 @@ class AnalysedSurface {
   struct State;
   std::unique_ptr<State> state_;
 };
+
+/// The scheme a surface codes better with (`osdmra compress` without --scheme): each
+/// analyses `mesh` and codes its whole stream at `codec`'s precision, which bounds the
+/// error either way; the shorter stream wins. Loop wins on smooth surfaces (the bundled
+/// head); the polyhedral scheme on remeshes of scans, flat inside every input
+/// triangle, where a midpoint predicts the new vertex exactly and Loop's smoothing does
+/// not (docs/COMPRESSION.md). Costs two analyses and two codings, no distance.
+struct CodingSchemeChoice {
+  Scheme scheme = Scheme::Loop;
+  std::size_t loopBytes = 0, linearBytes = 0;  ///< the whole streams
+};
+CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
+                                      CodecOptions codec, const std::string& source = "");
 
 }  // namespace osdmra

@@ -387,3 +387,24 @@ TEST(LoadSurface, SaysWhenDebrisTakesBaseFacesAndDropsItWhenAsked) {
   EXPECT_EQ(dropped.remeshing->smallComponentsDropped, 20);
   EXPECT_EQ(topology(dropped.mesh).components, 1);
 }
+
+// The codec's scheme by default: a surface refined by midpoints (flat inside every base
+// face, as a remesh of a scan is inside every input triangle) codes shorter with the
+// polyhedral scheme, whose details are all zero there; a Loop surface with Loop, whose
+// are. Either way the choice is the shorter whole stream.
+TEST(ChooseCodingScheme, TheSchemeThatRefinedTheSurfaceCodesItShorter) {
+  AnalysisOptions options;
+  options.approximator = false;
+  options.norms = false;
+  options.wavelets = {WaveletKind::Fixed, 0};
+  const CodecOptions codec;
+  for (const Scheme scheme : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(scheme));
+    const TriMesh mesh = subdivide(shapes::icosahedron(), 4, scheme, 0.02, 3);
+    const CodingSchemeChoice c = chooseCodingScheme(mesh, options, codec);
+    EXPECT_EQ(c.scheme, scheme);
+    EXPECT_EQ(c.scheme == Scheme::Linear, c.linearBytes < c.loopBytes);
+    EXPECT_GT(c.loopBytes, 0u);
+    EXPECT_GT(c.linearBytes, 0u);
+  }
+}
