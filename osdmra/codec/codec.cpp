@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 
 #include "osdmra/base/error.h"
@@ -317,12 +318,15 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   TriMesh base{dequantiseBase(h, b.coordinates), b.faces, Points()};
   validate(base, name + ": base mesh");
   const Hierarchy hier(base.F, h.baseVertices, h.levels, h.scheme);
-  // The bank without the wavelet norms: synthesis needs only alpha.
-  const FilterBank bank = makeFilterBank(hier, h.scheme, h.wavelets, {}, false);
-  ZerotreeState state;
+  // The filter bank (without the wavelet norms: synthesis needs only alpha) and the
+  // zerotree's decoding each need only the hierarchy: on two cores they run side by side.
+  std::future<FilterBank> bank = std::async(
+      std::launch::async, [&] { return makeFilterBank(hier, h.scheme, h.wavelets, {}, false); });
+  RangeDecoder dec(f.coefficients.data(), f.coefficients.size());
+  const ZerotreeState state = decodeZerotree(edgeTree(hier), h.topPlane, dec);
+  const std::vector<std::vector<double>> steps = reconstruct(state);
   Decompressed out;
-  out.mesh.V =
-      decodePrefix(bank, edgeTree(hier), h, base.V, f.coefficients, f.coefficients.size(), &state);
+  out.mesh.V = rebuild(bank.get(), h, base.V, steps);
   // Finite fields can still multiply out of range (a huge step, a coefficient of
   // 2^29 steps): such a stream cannot be an encoder's.
   if (!out.mesh.V.allFinite())
