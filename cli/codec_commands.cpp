@@ -79,12 +79,10 @@ int cmdCompress(const Argv& argv) {
   const double tRead = seconds(t0);
   // Without --scheme, the one whose whole stream is shorter on this surface.
   std::optional<CodingSchemeChoice> choice;
-  if (!args.has("scheme")) {
-    choice = chooseCodingScheme(s.mesh, options, codec, in);
-    options.scheme = choice->scheme;
-  }
+  if (!args.has("scheme")) choice = chooseCodingScheme(s.mesh, options, codec, in);
   const double tChoose = seconds(t0) - tRead;
-  const AnalysedSurface a(s.mesh, options, in, opt.progress);
+  const AnalysedSurface a =
+      choice ? std::move(*choice->surface) : AnalysedSurface(s.mesh, options, in, opt.progress);
   const long long vertices = a.hierarchy().numVertices(a.levels());
   const RateTarget target = rateTarget(args, vertices);
   const auto t1 = Clock::now();

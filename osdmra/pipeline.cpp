@@ -311,15 +311,19 @@ LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions&
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
                                       CodecOptions codec, const std::string& source) {
   codec.measureSurface = false;
-  auto wholeStream = [&](Scheme scheme) {
+  auto analysed = [&](Scheme scheme) {
     options.scheme = scheme;
-    const AnalysedSurface a(mesh, options, source);
+    return AnalysedSurface(mesh, options, source);
+  };
+  auto wholeStream = [&](const AnalysedSurface& a) {
     return compress(a.bank(), a.decomposition(), a.canonicalPositions(), {}, codec).wholeBytes;
   };
   CodingSchemeChoice c;
-  c.loopBytes = wholeStream(Scheme::Loop);
-  c.linearBytes = wholeStream(Scheme::Linear);
+  AnalysedSurface loop = analysed(Scheme::Loop), linear = analysed(Scheme::Linear);
+  c.loopBytes = wholeStream(loop);
+  c.linearBytes = wholeStream(linear);
   c.scheme = c.linearBytes < c.loopBytes ? Scheme::Linear : Scheme::Loop;
+  c.surface.emplace(std::move(c.scheme == Scheme::Linear ? linear : loop));
   return c;
 }
 

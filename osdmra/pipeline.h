@@ -199,6 +199,8 @@ class AnalysedSurface {
 struct CodingSchemeChoice {
   Scheme scheme = Scheme::Loop;
   std::size_t loopBytes = 0, linearBytes = 0;  ///< the whole streams
+  /// The surface analysed with `scheme`, ready to code (not analysed again).
+  std::optional<AnalysedSurface> surface;
 };
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
                                       CodecOptions codec, const std::string& source = "");
