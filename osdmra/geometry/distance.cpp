@@ -361,6 +361,37 @@ void TriangleBvh::facesInBox(const Vec3& lo, const Vec3& hi, std::vector<int>& f
   }
 }
 
+bool TriangleBvh::trianglesBoxesMeet(int i, int j) const {
+  const Vec3 *p = &corners_[3 * static_cast<std::size_t>(i)],
+             *q = &corners_[3 * static_cast<std::size_t>(j)];
+  return (p[0].cwiseMin(p[1]).cwiseMin(p[2]).array() <= q[0].cwiseMax(q[1]).cwiseMax(q[2]).array())
+             .all() &&
+         (p[0].cwiseMax(p[1]).cwiseMax(p[2]).array() >= q[0].cwiseMin(q[1]).cwiseMin(q[2]).array())
+             .all();
+}
+
+std::vector<std::array<int, 2>> TriangleBvh::selfPairTasks(int count) const {
+  // Breadth first from the root against itself: every pair that stays stands for the
+  // leaf pairs under it, so splitting pairs (and dropping those whose boxes are apart)
+  // keeps the cover exact.
+  std::vector<std::array<int, 2>> tasks{{0, 0}};
+  for (bool split = true; split && static_cast<int>(tasks.size()) < count;) {
+    split = false;
+    std::vector<std::array<int, 2>> next;
+    for (const auto& [a, b] : tasks) {
+      if (!boxesMeet(nodes_[a], nodes_[b])) continue;
+      if (nodes_[a].count > 0 && nodes_[b].count > 0) {
+        next.push_back({a, b});
+        continue;
+      }
+      split = true;
+      splitPair(a, b, [&](int x, int y) { next.push_back({x, y}); });
+    }
+    tasks.swap(next);
+  }
+  return tasks;
+}
+
 Points samplePoints(const TriMesh& mesh, int count, std::uint64_t seed, bool includeVertices) {
   checkMesh(mesh, "samplePoints");
   if (count < 0) throw Error("samplePoints: negative sample count " + std::to_string(count));

@@ -19,6 +19,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -83,6 +85,18 @@ class TriangleBvh {
   void facesInBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                   std::vector<int>& faces) const;
 
+  /// Pairs of nodes (a, b) that share out the hierarchy's traversal against itself:
+  /// every pair of distinct triangles whose bounding boxes meet lies under exactly one
+  /// of them (both in a == b, or one in each). About `count` of them (fewer when the
+  /// tree runs out), so that threads can take them in turn.
+  std::vector<std::array<int, 2>> selfPairTasks(int count) const;
+
+  /// Calls visit(f, g) (rows of TriMesh::F, f < g) for every pair of distinct
+  /// triangles under task (a, b) of selfPairTasks() whose bounding boxes meet: one
+  /// traversal of two subtrees against each other, instead of one query per triangle.
+  template <class Visit>
+  void forBoxesMeeting(std::array<int, 2> task, Visit&& visit) const;
+
   int numTriangles() const { return static_cast<int>(faceOf_.size()); }
   int numNodes() const { return static_cast<int>(nodes_.size()); }
   /// Nodes on the longest root-to-leaf path (1 for a single leaf).
@@ -106,7 +120,58 @@ class TriangleBvh {
   std::vector<int> faceOf_;
   std::vector<Node> nodes_;
   int depth_ = 0;
+
+  static bool boxesMeet(const Node& a, const Node& b) {
+    for (int k = 0; k < 3; ++k)
+      if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
+    return true;
+  }
+  /// The pairs that cover (a, b)'s: a node against itself gives its children against
+  /// themselves and each other; distinct nodes split the larger one (an inner node).
+  template <class Push>
+  void splitPair(int a, int b, Push&& push) const;
+  bool trianglesBoxesMeet(int i, int j) const;
 };
+
+template <class Push>
+void TriangleBvh::splitPair(int a, int b, Push&& push) const {
+  const Node &na = nodes_[a], &nb = nodes_[b];
+  if (a == b) {
+    push(a + 1, a + 1);
+    push(a + 1, na.first);
+    push(na.first, na.first);
+    return;
+  }
+  auto extent = [](const Node& n) {
+    return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]);
+  };
+  if (nb.count > 0 || (na.count == 0 && extent(na) >= extent(nb))) {
+    push(a + 1, b);
+    push(na.first, b);
+  } else {
+    push(a, b + 1);
+    push(a, nb.first);
+  }
+}
+
+template <class Visit>
+void TriangleBvh::forBoxesMeeting(std::array<int, 2> task, Visit&& visit) const {
+  std::vector<std::array<int, 2>> stack{task};
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const Node &na = nodes_[a], &nb = nodes_[b];
+    if (!boxesMeet(na, nb)) continue;
+    if (na.count == 0 || nb.count == 0) {
+      splitPair(a, b, [&](int x, int y) { stack.push_back({x, y}); });
+      continue;
+    }
+    for (int i = na.first; i < na.first + na.count; ++i)
+      for (int j = a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
+        if (trianglesBoxesMeet(i, j))
+          visit(std::min(faceOf_[i], faceOf_[j]), std::max(faceOf_[i], faceOf_[j]));
+  }
+}
 
 /// `count` points distributed uniformly by area over the surface of `mesh`
 /// (zero-area faces are never drawn; a mesh of zero total area draws every face with

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/geometry/distance.h"
@@ -12,27 +13,40 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 
-// Whether segment [p, q] meets triangle (a, b, c) (Moller and Trumbore's ray test
-// cut to the segment). `eps` is relative: barycentric and segment parameters within
-// it of the edge count as inside.
-bool segmentMeetsTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
-                          const Vec3& c) {
+// A triangle for the segment tests: its corners and its plane's (unnormalised) normal.
+struct Triangle {
+  Vec3 a, b, c, n;
+  Triangle(const Vec3& p, const Vec3& q, const Vec3& r)
+      : a(p), b(q), c(r), n((q - p).cross(r - p)) {}
+};
+
+// Whether segment [p, q] meets triangle t (Moller and Trumbore's ray test cut to the
+// segment). `eps` is relative: barycentric and segment parameters within it of the
+// edge count as inside.
+bool segmentMeetsTriangle(const Vec3& p, const Vec3& q, const Triangle& t) {
+  // Both ends on one side of the plane, farther from it than a millionth of the
+  // segment's reach across it (1e-9 of its length), give a segment parameter outside
+  // [-eps, 1 + eps] by far more than rounding: the ray test below would reject it, and
+  // most pairs of a mesh's nearby faces end here, at two dot products.
+  const double dp = t.n.dot(p - t.a), dq = t.n.dot(q - t.a);
+  if (dp * dq > 0 && std::min(dp * dp, dq * dq) > 1e-18 * t.n.squaredNorm() * (q - p).squaredNorm())
+    return false;
   constexpr double eps = 1e-12;
-  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
+  const Vec3 d = q - p, e1 = t.b - t.a, e2 = t.c - t.a;
   const Vec3 h = d.cross(e2);
   const double det = e1.dot(h);
   // Parallel (or degenerate): a segment in the triangle's plane is a coplanar case,
   // not detected here.
   if (std::abs(det) <= eps * d.norm() * e1.norm() * e2.norm()) return false;
   const double inv = 1.0 / det;
-  const Vec3 s = p - a;
+  const Vec3 s = p - t.a;
   const double u = inv * s.dot(h);
   if (u < -eps || u > 1 + eps) return false;
   const Vec3 r = s.cross(e1);
   const double v = inv * d.dot(r);
   if (v < -eps || u + v > 1 + eps) return false;
-  const double t = inv * e2.dot(r);
-  return t >= -eps && t <= 1 + eps;
+  const double param = inv * e2.dot(r);
+  return param >= -eps && param <= 1 + eps;
 }
 
 }  // namespace
@@ -49,12 +63,13 @@ bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::arra
   if (shared >= 2) return false;
   auto at = [&](int v) -> Vec3 { return V.row(v).transpose(); };
   const Vec3 a = at(f[0]), b = at(f[1]), c = at(f[2]), x = at(g[0]), y = at(g[1]), z = at(g[2]);
+  const Triangle tf(a, b, c), tg(x, y, z);
   if (shared == 1)  // only the edges away from the common corner can cross the other
-    return segmentMeetsTriangle(at(f[(sf + 1) % 3]), at(f[(sf + 2) % 3]), x, y, z) ||
-           segmentMeetsTriangle(at(g[(sg + 1) % 3]), at(g[(sg + 2) % 3]), a, b, c);
-  return segmentMeetsTriangle(a, b, x, y, z) || segmentMeetsTriangle(b, c, x, y, z) ||
-         segmentMeetsTriangle(c, a, x, y, z) || segmentMeetsTriangle(x, y, a, b, c) ||
-         segmentMeetsTriangle(y, z, a, b, c) || segmentMeetsTriangle(z, x, a, b, c);
+    return segmentMeetsTriangle(at(f[(sf + 1) % 3]), at(f[(sf + 2) % 3]), tg) ||
+           segmentMeetsTriangle(at(g[(sg + 1) % 3]), at(g[(sg + 2) % 3]), tf);
+  return segmentMeetsTriangle(a, b, tg) || segmentMeetsTriangle(b, c, tg) ||
+         segmentMeetsTriangle(c, a, tg) || segmentMeetsTriangle(x, y, tf) ||
+         segmentMeetsTriangle(y, z, tf) || segmentMeetsTriangle(z, x, tf);
 }
 
 namespace {
@@ -88,21 +103,37 @@ void forFacesWithMeetingBoxes(const TriMesh& mesh, const TriangleBvh& bvh, int c
 SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
   const TriangleBvh bvh(mesh);
   const int chunks = numChunks(mesh.F.rows(), 1 << 12);
+  // Threads take the hierarchy's pairs of subtrees in turn (their work varies by
+  // orders of magnitude); what each finds is kept to the smallest maxListed pairs, and
+  // sorted at the end, so the result does not depend on who took what.
+  const std::vector<std::array<int, 2>> tasks = bvh.selfPairTasks(chunks > 1 ? 64 * chunks : 1);
+  std::atomic<int> nextTask{0};
   std::vector<std::vector<std::array<int, 2>>> found(chunks);
   std::vector<long long> counts(chunks, 0);
-  forFacesWithMeetingBoxes(
-      mesh, bvh, chunks, [](int i) { return i; },
-      [&](int chunk, int f, int g) {
-        if (g <= f || !facesMeet(mesh, f, g)) return;
+  const std::size_t kept = static_cast<std::size_t>(std::max(maxListed, 0));
+  forChunks(chunks, chunks, [&](int chunk, int, int) {
+    std::vector<std::array<int, 2>>& mine = found[chunk];
+    for (int t = nextTask++; t < static_cast<int>(tasks.size()); t = nextTask++) {
+      bvh.forBoxesMeeting(tasks[t], [&](int f, int g) {
+        if (!facesMeet(mesh, f, g)) return;
         ++counts[chunk];
-        if (static_cast<int>(found[chunk].size()) < maxListed) found[chunk].push_back({f, g});
+        if (kept == 0) return;
+        mine.push_back({f, g});
+        if (mine.size() >= 2 * kept + 1024) {
+          std::nth_element(mine.begin(), mine.begin() + static_cast<std::ptrdiff_t>(kept),
+                           mine.end());
+          mine.resize(kept);
+        }
       });
+    }
+  });
   SelfIntersections out;
   for (int c = 0; c < chunks; ++c) {
     out.count += counts[c];
-    for (const auto& p : found[c])
-      if (static_cast<int>(out.pairs.size()) < maxListed) out.pairs.push_back(p);
+    out.pairs.insert(out.pairs.end(), found[c].begin(), found[c].end());
   }
+  std::sort(out.pairs.begin(), out.pairs.end());
+  if (out.pairs.size() > kept) out.pairs.resize(kept);
   return out;
 }
 

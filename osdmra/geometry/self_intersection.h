@@ -16,7 +16,7 @@ struct SelfIntersections {
   /// passes through the other (a fold at that vertex). Faces sharing an edge are not
   /// tested (a fold across an edge turns a face over: see Remeshing::flippedTriangles).
   long long count = 0;
-  /// The first pairs found, in face order of f (at most `maxListed`).
+  /// The first pairs in (f, g) order (at most `maxListed`).
   std::vector<std::array<int, 2>> pairs;
 };
 
@@ -25,7 +25,7 @@ struct SelfIntersections {
 bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::array<int, 3>& g);
 
 /// Tests every pair of faces whose bounding boxes overlap (a bounding volume
-/// hierarchy finds them), on all cores. Exact up to rounding: segment-triangle tests
+/// hierarchy traversed against itself finds them), on all cores. Exact up to rounding: segment-triangle tests
 /// with a relative tolerance of 1e-12, so two faces that merely touch at a point may
 /// or may not count. Coplanar overlaps of disjoint faces are not detected. Throws
 /// Error for a mesh without faces.

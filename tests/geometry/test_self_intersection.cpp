@@ -134,3 +134,33 @@ TEST(DistanceBvh, FacesInBoxMatchesBruteForce) {
     EXPECT_EQ(got, want) << "box " << q;
   }
 }
+
+// The traversal of the hierarchy against itself finds every pair of triangles whose
+// boxes meet exactly once, however its tasks are cut, a single leaf included.
+TEST(DistanceBvh, PairsOfMeetingBoxesMatchBruteForce) {
+  for (const TriMesh& m :
+       {subdivide(shapes::torus(), 2, Scheme::Loop, 0.05, 3),
+        subdivide(shapes::icosahedron(), 1, Scheme::Loop), shapes::tetrahedron()}) {
+    std::vector<Eigen::Vector3d> lo(m.F.rows()), hi(m.F.rows());
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+      lo[f] = hi[f] = m.V.row(m.F(f, 0));
+      for (int k = 1; k < 3; ++k) {
+        lo[f] = lo[f].cwiseMin(m.V.row(m.F(f, k)).transpose());
+        hi[f] = hi[f].cwiseMax(m.V.row(m.F(f, k)).transpose());
+      }
+    }
+    std::vector<std::array<int, 2>> want;
+    for (int f = 0; f < m.F.rows(); ++f)
+      for (int g = f + 1; g < m.F.rows(); ++g)
+        if ((lo[f].array() <= hi[g].array()).all() && (hi[f].array() >= lo[g].array()).all())
+          want.push_back({f, g});
+    const TriangleBvh bvh(m);
+    for (int count : {1, 2, 7, 64, 100000}) {
+      std::vector<std::array<int, 2>> got;
+      for (const auto& task : bvh.selfPairTasks(count))
+        bvh.forBoxesMeeting(task, [&](int f, int g) { got.push_back({f, g}); });
+      std::sort(got.begin(), got.end());
+      EXPECT_EQ(got, want) << m.F.rows() << " faces, " << count << " tasks";
+    }
+  }
+}
