@@ -96,9 +96,17 @@ class Cleaner {
           const std::vector<long long>& line, std::vector<Where>& where,
           const SurfaceWalker& walker);
 
-  void run(const Progress& progress);
+  void run(const Progress& progress, const std::function<void()>& repairsBegin);
 
  private:
+  // Reports the clean-up's progress. The repairs can run for seconds on inputs that
+  // cross themselves: they report as they go (and a caller may abandon them so, by
+  // throwing from the callback: remesh() does with a grid map it no longer needs).
+  void report(double fraction) const {
+    if (progress_) progress_("clean-up", fraction);
+  }
+  Progress progress_;
+
   // What counts as a defect, and how good a vertex's triangles are.
   Vec3 reference(int v) const;
   bool badCorners(int i, int j, int k, bool& degenerate) const;
@@ -139,7 +147,7 @@ class Cleaner {
                   const std::vector<Where>& found);
 
   // The stages.
-  void projectNearBadTriangles(const Progress& progress);
+  void projectNearBadTriangles();
   // What a disk of resampleDisk() came to: its points moved; not, but a larger disk
   // may do; not, and a larger one will not either.
   enum class Disk { moved, tryLarger, stop };
@@ -148,7 +156,7 @@ class Cleaner {
   int triangleOf(int a, int b) const;
   bool alongBoundary(const Where& at, int direction, double distance, Where& to, Vec3& x) const;
   bool slide(int v);
-  void repair();
+  void repair(double from, double to);
   std::vector<int> relax(const std::vector<char>& relaxFace);
   void relaxWhatIsLeft();
 
@@ -522,13 +530,13 @@ bool Cleaner::moveIfGood(const std::vector<int>& movers, const std::vector<Vec3>
 // move together to the input point nearest to their neighbours' centroid, unless that
 // point faces the other way; the next round looks at the triangles around what moved
 // and those still bad. Counts the bad triangles as it goes.
-void Cleaner::projectNearBadTriangles(const Progress& progress) {
+void Cleaner::projectNearBadTriangles() {
   std::vector<Eigen::Index> suspects(static_cast<std::size_t>(m_.F.rows()));
   for (Eigen::Index f = 0; f < m_.F.rows(); ++f) suspects[f] = f;
   constexpr int kRounds = 12;
   std::vector<int> stamp(m_.V.rows(), -1), near(m_.V.rows(), -1);
   for (int round = 0;; ++round) {
-    if (progress) progress("clean-up", std::min(1.0, double(round) / kRounds));
+    report(0.1 * std::min(1.0, double(round) / kRounds));
     std::vector<Eigen::Index> still;
     out_.flippedTriangles = out_.degenerateTriangles = 0;
     for (Eigen::Index f : suspects) {
@@ -847,9 +855,12 @@ bool Cleaner::slide(int v) {
 
 // Stages two and three on the faces of left_: a disk around each defective face, then
 // rounds of untangling over the corners of what is left and their neighbours.
-void Cleaner::repair() {
+void Cleaner::repair(double from, double to) {
   constexpr int kMaxRings = 16;
-  for (Eigen::Index f : left_) {
+  const double disksTo = from + 0.6 * (to - from);
+  for (std::size_t i = 0; i < left_.size(); ++i) {
+    if (i % 32 == 0) report(from + (disksTo - from) * double(i) / double(left_.size()));
+    const Eigen::Index f = left_[i];
     if (!defective(f)) continue;  // a disk around a neighbour fixed it
     int center = m_.F(f, 0);
     for (int c = 0; c < 3; ++c)
@@ -859,6 +870,7 @@ void Cleaner::repair() {
   }
   constexpr int kUntangleRounds = 40;
   for (int round = 0; round < kUntangleRounds; ++round) {
+    report(disksTo + (to - disksTo) * double(round) / kUntangleRounds);
     std::vector<Eigen::Index> still;
     for (Eigen::Index f : left_)
       if (defective(f)) still.push_back(f);
@@ -933,7 +945,7 @@ void Cleaner::relaxWhatIsLeft() {
     left_.clear();
     for (Eigen::Index f : again)
       if (defective(f)) left_.push_back(f);
-    repair();
+    repair(0.8 + 0.2 * attempt / 3.0, 0.8 + 0.2 * (attempt + 1) / 3.0);
     const long long after = countDefects();
     if (after >= before || farthest(relaxFace) > farBefore) {
       m_.V = keptV;
@@ -949,8 +961,9 @@ void Cleaner::relaxWhatIsLeft() {
   }
 }
 
-void Cleaner::run(const Progress& progress) {
-  projectNearBadTriangles(progress);
+void Cleaner::run(const Progress& progress, const std::function<void()>& repairsBegin) {
+  progress_ = progress;
+  projectNearBadTriangles();
   // What the first stage leaves: bad triangles, mostly next to base vertices whose grid
   // neighbours were sampled out of order around them or beside feature lines, and
   // triangles crossing another (the first stage only looks at orientation; a fold can
@@ -961,22 +974,24 @@ void Cleaner::run(const Progress& progress) {
   for (const auto& pair : crossings_)
     if (!sheetsCross(pair)) left_.insert(left_.end(), pair.begin(), pair.end());
   sortUnique(left_);
-  repair();
+  if (!left_.empty() && repairsBegin) repairsBegin();
+  repair(0.1, 0.8);
   relaxWhatIsLeft();
   countBad();
   // The base mesh is the remeshed surface's level 0: where a disk moved a base vertex.
   out_.base.V = m_.V.topRows(numBase_);
   for (Eigen::Index v = 0; v < m_.V.rows(); ++v)
     out_.cleanupMovedPoints += m_.V.row(v) != sampled_.row(v);
-  if (progress) progress("clean-up", 1.0);
+  report(1.0);
 }
 
 }  // namespace
 
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<Where>& where,
-             const SurfaceWalker& walker, const Progress& progress) {
-  Cleaner(out, input, free, line, where, walker).run(progress);
+             const SurfaceWalker& walker, const Progress& progress,
+             const std::function<void()>& repairsBegin) {
+  Cleaner(out, input, free, line, where, walker).run(progress, repairsBegin);
 }
 
 }  // namespace osdmra::remeshing

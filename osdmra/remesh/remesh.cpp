@@ -1,7 +1,11 @@
 #include "osdmra/remesh/remesh.h"
 
+#include <atomic>
 #include <cmath>
+#include <functional>
+#include <future>
 #include <string>
+#include <thread>
 
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/normals.h"
@@ -43,19 +47,52 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
 }
 
 // Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
-// up.
+// up (`repairsBegin` as in cleanUp()).
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
                             const SurfaceWalker& walker, const remeshing::Features& features,
                             const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
-                            int levels, remeshing::GridMap map, const Progress& progress) {
+                            int levels, remeshing::GridMap map, const Progress& progress,
+                            const std::function<void()>& repairsBegin = {}) {
   using namespace remeshing;
   Remeshing out = common;
   Resampled grid =
       resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
   out.mesh = std::move(grid.mesh);
-  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress);
+  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, repairsBegin);
   return out;
 }
+
+// The exact map's remeshing, started on a second core when the straightened map's
+// clean-up finds defects to repair (and only then: most inputs need one map), and
+// abandoned through its progress callback if that one comes out clean after all. Its
+// result is the one a sequential run would get: the maps share nothing that changes.
+class ExactMapBeside {
+ public:
+  template <class Run>
+  void start(Run run) {
+    if (result_.valid() || std::thread::hardware_concurrency() < 2) return;
+    result_ = std::async(std::launch::async, [this, run] {
+      return run([this](const char*, double) {
+        if (abandon_) throw Abandoned{};
+      });
+    });
+  }
+  bool started() const { return result_.valid(); }
+  Remeshing get() { return result_.get(); }
+  ~ExactMapBeside() {
+    abandon_ = true;
+    if (!result_.valid()) return;
+    try {
+      result_.get();
+    } catch (...) {  // abandoned, or failed where nothing needs it any more
+    }
+  }
+
+ private:
+  struct Abandoned {};
+  std::atomic<bool> abandon_{false};
+  std::future<Remeshing> result_;
+};
 
 // What another grid map could mend: the input's own crossings stay under any.
 long long defectsLeft(const Remeshing& r) {
@@ -97,13 +134,18 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // exact one on decimated inputs (the lion over 300: 61 against 4; the camel head
   // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
   // the straightened map, none through the exact one).
-  Remeshing best = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
-                                     GridMap::straightened, progress);
+  auto exactMap = [&](const Progress& p) {
+    return sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
+                             GridMap::exact, p);
+  };
+  ExactMapBeside beside;
+  Remeshing best =
+      sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
+                        GridMap::straightened, progress, [&] { beside.start(exactMap); });
   const long long straightenedLeft = defectsLeft(best);
   long long exactLeft = -1;
   if (straightenedLeft > 0) {
-    Remeshing exact = sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
-                                        GridMap::exact, progress);
+    Remeshing exact = beside.started() ? beside.get() : exactMap(progress);
     exactLeft = defectsLeft(exact);
     if (exactLeft < straightenedLeft) {
       best = std::move(exact);

@@ -3,6 +3,8 @@
 // says how much it moved; given a clean one, it moves nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/cleanup.h"
 #include "osdmra/remesh/features.h"
@@ -69,4 +71,53 @@ TEST(Cleanup, RepairsAFoldAndSaysSo) {
   EXPECT_EQ(out.flippedTriangles, 0);
   EXPECT_EQ(out.degenerateTriangles, 0);
   EXPECT_EQ(out.selfIntersections, 0);
+}
+
+// The repairs say how far they are (the callback is also how remesh() abandons a clean-up
+// it no longer needs: an exception from it ends the clean-up and reaches the caller).
+// A rough torus over 20 base faces folds where the first stage cannot mend it.
+TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
+  Sampled x;
+  x.input = subdivide(shapes::torus(), 1, Scheme::Loop, 0.02, 3);
+  x.features = detectFeatures(x.input, 70.0);
+  x.s = simplify(x.input, x.features, 20);
+  const SurfaceWalker walker(x.input, x.features.list);
+  x.grid = resample(x.input, walker.connectivity(), x.features.list, x.s, BaseCharts(x.s.base), 3);
+
+  Remeshing out = resampled(x);
+  std::vector<SurfacePoint> at = x.grid.where;
+  std::vector<double> reported;
+  int begun = 0;
+  cleanUp(
+      out, x.input, x.grid.free, x.grid.line, at, walker,
+      [&](const char* stage, double f) {
+        EXPECT_STREQ(stage, "clean-up");
+        reported.push_back(f);
+      },
+      [&] { ++begun; });
+  EXPECT_EQ(begun, 1);
+  ASSERT_FALSE(reported.empty());
+  EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
+  EXPECT_EQ(reported.back(), 1.0);
+  EXPECT_TRUE(std::any_of(reported.begin(), reported.end(), [](double f) {
+    return f > 0.1 && f < 1;
+  })) << "the repairs report as they go";
+
+  struct Stop {};
+  Remeshing abandoned = resampled(x);
+  at = x.grid.where;
+  EXPECT_THROW(cleanUp(abandoned, x.input, x.grid.free, x.grid.line, at, walker,
+                       [](const char*, double f) {
+                         if (f > 0.1) throw Stop{};
+                       }),
+               Stop);
+
+  // A clean sampling has nothing to repair: the repairs never begin.
+  const Sampled sphere = sampledSphere();
+  const SurfaceWalker onSphere(sphere.input, sphere.features.list);
+  Remeshing clean = resampled(sphere);
+  at = sphere.grid.where;
+  cleanUp(clean, sphere.input, sphere.grid.free, sphere.grid.line, at, onSphere, {},
+          [&] { ++begun; });
+  EXPECT_EQ(begun, 1);
 }
