@@ -22,12 +22,13 @@ namespace osdmra::remeshing {
 
 /// Repairs out.mesh (M^J over out.base, sampled from `input`; `where` its vertices'
 /// places on the input, kept up to date; `free` and `line` as in resample.h) and sets
-/// the defect counts and the clean-up's own of `out`. `repairsBegin`, if set, is called
-/// once if the first stage leaves defects, before the repairs (which may take seconds).
-/// `progress` reports as the repairs go, and an exception thrown from it abandons them.
+/// the defect counts and the clean-up's own of `out`. `lastResort`, if set, is called
+/// once if the repairs leave defects, before the last resort (relaxing whole base faces,
+/// which may take seconds). `progress` reports as the repairs go, and an exception
+/// thrown from it abandons them.
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<SurfacePoint>& where,
              const SurfaceWalker& walker, const Progress& progress = {},
-             const std::function<void()>& repairsBegin = {});
+             const std::function<void()>& lastResort = {});
 
 }  // namespace osdmra::remeshing

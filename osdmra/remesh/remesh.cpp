@@ -47,25 +47,27 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
 }
 
 // Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
-// up (`repairsBegin` as in cleanUp()).
+// up (`lastResort` as in cleanUp()).
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
                             const SurfaceWalker& walker, const remeshing::Features& features,
                             const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
                             int levels, remeshing::GridMap map, const Progress& progress,
-                            const std::function<void()>& repairsBegin = {}) {
+                            const std::function<void()>& lastResort = {}) {
   using namespace remeshing;
   Remeshing out = common;
   Resampled grid =
       resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
   out.mesh = std::move(grid.mesh);
-  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, repairsBegin);
+  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort);
   return out;
 }
 
 // The exact map's remeshing, started on a second core when the straightened map's
-// clean-up finds defects to repair (and only then: most inputs need one map), and
-// abandoned through its progress callback if that one comes out clean after all. Its
-// result is the one a sequential run would get: the maps share nothing that changes.
+// repairs leave defects (and only then: most inputs need one map, and most repairs
+// succeed; started as soon as there was anything to repair, it slowed the corpus's
+// runs whose repairs then came out clean), and abandoned through its progress callback
+// if the last resort leaves the straightened one clean after all. Its result is the one
+// a sequential run would get: the maps share nothing that changes.
 class ExactMapBeside {
  public:
   template <class Run>

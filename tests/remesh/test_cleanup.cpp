@@ -75,7 +75,8 @@ TEST(Cleanup, RepairsAFoldAndSaysSo) {
 
 // The repairs say how far they are (the callback is also how remesh() abandons a clean-up
 // it no longer needs: an exception from it ends the clean-up and reaches the caller).
-// A rough torus over 20 base faces folds where the first stage cannot mend it.
+// A rough torus over 20 base faces folds where neither the first stage nor the repairs
+// mend it: the last resort runs.
 TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
   Sampled x;
   x.input = subdivide(shapes::torus(), 1, Scheme::Loop, 0.02, 3);
@@ -87,15 +88,15 @@ TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
   Remeshing out = resampled(x);
   std::vector<SurfacePoint> at = x.grid.where;
   std::vector<double> reported;
-  int begun = 0;
+  int lastResorts = 0;
   cleanUp(
       out, x.input, x.grid.free, x.grid.line, at, walker,
       [&](const char* stage, double f) {
         EXPECT_STREQ(stage, "clean-up");
         reported.push_back(f);
       },
-      [&] { ++begun; });
-  EXPECT_EQ(begun, 1);
+      [&] { ++lastResorts; });
+  EXPECT_EQ(lastResorts, 1);
   ASSERT_FALSE(reported.empty());
   EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
   EXPECT_EQ(reported.back(), 1.0);
@@ -112,12 +113,12 @@ TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
                        }),
                Stop);
 
-  // A clean sampling has nothing to repair: the repairs never begin.
+  // A clean sampling leaves nothing for the last resort.
   const Sampled sphere = sampledSphere();
   const SurfaceWalker onSphere(sphere.input, sphere.features.list);
   Remeshing clean = resampled(sphere);
   at = sphere.grid.where;
   cleanUp(clean, sphere.input, sphere.grid.free, sphere.grid.line, at, onSphere, {},
-          [&] { ++begun; });
-  EXPECT_EQ(begun, 1);
+          [&] { ++lastResorts; });
+  EXPECT_EQ(lastResorts, 1);
 }
