@@ -58,9 +58,6 @@ class Simplifier {
     param_.resize(n);
     movedStamp_.assign(n, -1);
     movedIndex_.assign(n, -1);
-    refusedAt_.assign(n, -1);
-    refusedStage_.assign(n, -1);
-    changedAt_.assign(n, 0);
     checkedStamp_.assign(m.F.rows(), -1);
     smallestAngle_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -102,8 +99,6 @@ class Simplifier {
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
   void commit(int v, const Plan& p);
-  bool refusedAsBefore(int v) const;
-  void changedAround(const std::vector<int>& ring);
   std::string whyKept();
   const StageLimits& limits() const { return stages_[stage_]; }
 
@@ -122,11 +117,6 @@ class Simplifier {
   std::vector<int> movedStamp_, movedIndex_;
   std::vector<double> smallestAngle_;  // per input face, degrees
   std::vector<int> checkedStamp_;      // per input face: the plan that last checked it
-  // Per vertex: when plan() last refused it, under which stage, and when the mesh
-  // last changed within a few rings of it (refusedAsBefore()); `clock_` counts events.
-  std::vector<long long> refusedAt_, changedAt_;
-  std::vector<int> refusedStage_;
-  long long clock_ = 0;
   std::vector<RemovalRecord> removals_;
   std::vector<int> removalOf_, triangleOf_;
 };
@@ -444,35 +434,6 @@ std::vector<Simplifier::Candidate> Simplifier::candidates() const {
   return cands;
 }
 
-// Whether v was refused under the current stage and nothing has changed near it since:
-// planning it again would read the same faces, points and features, and be refused
-// again. (What a plan reads lies within its ring's faces and the faces holding the
-// input triangles around their points: within three rings of the ring, measured on nine
-// meshes of the corpus and the unseen ones of docs/REMESH.md, where 217,000 plans would
-// be skipped so, none of which succeeded when made. Late rounds refuse most vertices:
-// the skipped plans were 12-75% of the refused ones' time.)
-bool Simplifier::refusedAsBefore(int v) const {
-  return refusedStage_[v] == static_cast<int>(stage_) && changedAt_[v] < refusedAt_[v];
-}
-
-// After a removal: the vertices within three rings of its ring have changed.
-void Simplifier::changedAround(const std::vector<int>& ring) {
-  ++clock_;
-  std::vector<int> frontier = ring;
-  for (int x : frontier) changedAt_[x] = clock_;
-  for (int rings = 0; rings < 3; ++rings) {
-    std::vector<int> next;
-    for (int x : frontier)
-      for (int f : vertFaces_[x])
-        for (int y : faces_[f])
-          if (changedAt_[y] != clock_) {
-            changedAt_[y] = clock_;
-            next.push_back(y);
-          }
-    frontier.swap(next);
-  }
-}
-
 // One round: an independent set of removals, by priority. Returns how many were made.
 int Simplifier::removeRound(int target, int round, const Progress& progress, int start) {
   std::vector<Candidate> cands = candidates();
@@ -497,16 +458,10 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
   for (const Candidate& c : cands) {
     if (aliveFaces_ <= target) break;
     if (stamp[c.v] == round) continue;
-    if (refusedAsBefore(c.v)) continue;
     Ring r;
     Plan p;
-    if (!ring(c.v, r) || !plan(c.v, std::move(r), p)) {
-      refusedAt_[c.v] = ++clock_;
-      refusedStage_[c.v] = static_cast<int>(stage_);
-      continue;
-    }
+    if (!ring(c.v, r) || !plan(c.v, std::move(r), p)) continue;
     commit(c.v, p);
-    changedAround(p.ring.verts);
     ++removedNow;
     for (int w : p.ring.verts) stamp[w] = round;
     if (progress && removedNow % 1024 == 0)
