@@ -4,7 +4,8 @@
 // J = 5 over 300 base faces). Results in docs/BENCHMARKS.md.
 //
 //   osdmra_remesh_bench [google benchmark flags]   (scans: $OSDMRA_SCANS, default
-//   ../shared/data/scans; every .obj, .off and .ply that is a manifold mesh)
+//   ../shared/data/scans; every .obj, .off and .ply, read and repaired as `osdmra
+//   remesh` does: readRemeshInput())
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -15,8 +16,8 @@
 
 #include "meshopt_peer.h"
 #include "osdmra/base/error.h"
-#include "osdmra/mesh/io.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/pipeline.h"
 #include "osdmra/remesh/remesh.h"
 #include "run_benchmarks.h"
 
@@ -52,12 +53,9 @@ int main(int argc, char** argv) {
   for (const auto& path : files) {
     const std::string ext = path.extension().string();
     if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
-    try {
-      TriMesh m = readMesh(path.string());
-      removeUnreferencedVertices(m);
-      validate(m, path.string());
-      meshes.emplace_back(path.stem().string(), std::move(m));
-    } catch (const Error&) {  // not a manifold mesh (cow.obj): not a remesher input
+    try {  // what `osdmra remesh` remeshes: polygons as triangles, the input repaired
+      meshes.emplace_back(path.stem().string(), readRemeshInput(path.string()));
+    } catch (const Error&) {  // not a mesh the remesher takes
     }
   }
   for (const auto& [name, mesh] : meshes) {

@@ -157,6 +157,18 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
   return r;
 }
 
+TriMesh readRemeshInput(const std::string& path, const InputOptions& options,
+                        RemeshReport* report) {
+  // The remesher takes quad and polygon meshes too, as triangles.
+  ReadOptions reading;
+  reading.triangulate = true;
+  TriMesh input = readMesh(path, reading);
+  RemeshReport r;
+  repairInput(input, options, report ? *report : r);
+  validate(input, path);
+  return input;
+}
+
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
                           const Progress& progress) {
   const auto t0 = Clock::now();
@@ -166,13 +178,8 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
   if (!options.remesh) {
     s.mesh = readValidMesh(path);
   } else {
-    // The remesher takes quad and polygon meshes too, as triangles.
-    ReadOptions reading;
-    reading.triangulate = true;
-    TriMesh input = readMesh(path, reading);
     RemeshReport r;
-    repairInput(input, options, r);
-    validate(input, path);
+    const TriMesh input = readRemeshInput(path, options, &r);
     measureRemeshing(input, path, options, progress, r);
     s.remeshing = std::move(r);
     s.mesh = s.remeshing->result.mesh;

@@ -101,6 +101,12 @@ struct LoadedSurface {
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options = {},
                           const Progress& progress = {});
 
+/// What loadSurface() remeshes with options.remesh: `path` read (polygons as fans of
+/// triangles), repaired as said there and validated; what the repairs did goes into
+/// `report` (its counts and warnings) if given.
+TriMesh readRemeshInput(const std::string& path, const InputOptions& options = {},
+                        RemeshReport* report = nullptr);
+
 /// A remeshing of a valid mesh, measured (loadSurface's second half). `source` names
 /// the input in messages.
 RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,

@@ -55,6 +55,26 @@ TEST(LoadSurface, ReadsAndValidatesAFile) {
   EXPECT_GE(s.seconds, 0.0);
 }
 
+// What the remesher is given: the file repaired (here a face turned over, turned back)
+// and validated, the repairs counted; what cannot be repaired, an error naming the file.
+TEST(LoadSurface, ReadsTheRemesherInputRepaired) {
+  TempDir dir;
+  TriMesh flipped = cornerTetrahedron();
+  std::swap(flipped.F(3, 1), flipped.F(3, 2));
+  const std::string path = dir.file("flipped.obj");
+  writeMesh(path, flipped);
+  RemeshReport report;
+  const TriMesh input = readRemeshInput(path, {}, &report);
+  EXPECT_EQ(report.reorientedFaces, 1);
+  EXPECT_NO_THROW(validate(input, "repaired"));
+  EXPECT_EQ(input.F.rows(), flipped.F.rows());
+  EXPECT_EQ(readRemeshInput(path).F, input.F);  // the report is optional
+  const std::string strip = dir.file("moebius.obj");
+  writeMesh(strip, moebiusStrip(8));
+  expectContains(errorOf([&] { readRemeshInput(strip); }),
+                 {strip + ": ", "oriented inconsistently"});
+}
+
 TEST(LoadSurface, ErrorsNameTheFile) {
   TempDir dir;
   const std::string missing = dir.file("missing.obj");
