@@ -318,10 +318,13 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   TriMesh base{dequantiseBase(h, b.coordinates), b.faces, Points()};
   validate(base, name + ": base mesh");
   const Hierarchy hier(base.F, h.baseVertices, h.levels, h.scheme);
-  // The filter bank (without the wavelet norms: synthesis needs only alpha) and the
-  // zerotree's decoding each need only the hierarchy: on two cores they run side by side.
-  std::future<FilterBank> bank = std::async(
-      std::launch::async, [&] { return makeFilterBank(hier, h.scheme, h.wavelets, {}, false); });
+  // The refinement matrices and the filter bank (without the wavelet norms: synthesis
+  // needs only alpha), and the zerotree's decoding, each need only the hierarchy's
+  // faces and edges: on two cores they run side by side.
+  std::future<FilterBank> bank = std::async(std::launch::async, [&] {
+    hier.prepareRefinement();
+    return makeFilterBank(hier, h.scheme, h.wavelets, {}, false);
+  });
   RangeDecoder dec(f.coefficients.data(), f.coefficients.size());
   const ZerotreeState state = decodeZerotree(edgeTree(hier), h.topPlane, dec);
   const std::vector<std::vector<double>> steps = reconstruct(state);

@@ -128,6 +128,13 @@ struct Hierarchy::Impl {
   std::vector<int> numVertices;
   std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
   std::vector<SparseMatrix> P[2];                      // [Loop, Linear] per level
+  // The refinement matrices are extracted on first use (refinement()), and the refiner
+  // freed then: a decoder needs the faces and edges at once and the matrices only on
+  // the thread that builds its filter bank.
+  std::optional<Scheme> only;
+  std::unique_ptr<Far::TopologyRefiner> refiner;
+  mutable std::once_flag matricesOnce;
+  void extractMatrices();
   // Connectivity is built on first use: analysis never walks the finest level.
   mutable std::vector<std::unique_ptr<Connectivity>> conn;
   mutable std::vector<std::once_flag> connOnce;
@@ -186,10 +193,10 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
   if (levels < 0 || levels > 15)
     throw Error("levels must be in 0..15, got " + std::to_string(levels));
   if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
-  // The refiner lives only as long as the constructor: everything osdmra needs from
-  // it (faces, edges, both refinement matrices) is copied out, which costs less
-  // memory than OpenSubdiv's full topology of every level.
-  const std::unique_ptr<Far::TopologyRefiner> refiner =
+  // The refiner lives until the refinement matrices are extracted (refinement()):
+  // everything else osdmra needs from it (faces, edges) is copied out here, which costs
+  // less memory than OpenSubdiv's full topology of every level.
+  std::unique_ptr<Far::TopologyRefiner> refiner =
       createLoopRefiner(baseFaces, numBaseVertices, "the base mesh");
   if (levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(levels);
@@ -228,15 +235,26 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
         E[e] = {ev[0], ev[1]};
       }
       impl_->edges.push_back(std::move(E));
-      for (Scheme s : {Scheme::Loop, Scheme::Linear})
-        impl_->P[s == Scheme::Loop ? 0 : 1].push_back(
-            !only || *only == s ? extractRefinement(R, s, j) : SparseMatrix());
     }
     impl_->numVertices.push_back(L.GetNumVertices());
     impl_->faces.push_back(std::move(F));
   }
   impl_->conn.resize(levels + 1);
   impl_->connOnce = std::vector<std::once_flag>(levels + 1);
+  impl_->only = only;
+  impl_->refiner = std::move(refiner);
+}
+
+void Hierarchy::Impl::extractMatrices() {
+  const int J = static_cast<int>(faces.size()) - 1;
+  std::vector<SparseMatrix> extracted[2];
+  for (Scheme s : {Scheme::Loop, Scheme::Linear})
+    for (int j = 0; j < J; ++j)
+      extracted[s == Scheme::Loop ? 0 : 1].push_back(
+          !only || *only == s ? extractRefinement(*refiner, s, j) : SparseMatrix());
+  P[0] = std::move(extracted[0]);
+  P[1] = std::move(extracted[1]);
+  refiner.reset();
 }
 
 Hierarchy::~Hierarchy() = default;
@@ -321,10 +339,15 @@ Points unitNormals(const Points& du, const Points& dv) {
   return normals;
 }
 
+void Hierarchy::prepareRefinement() const {
+  std::call_once(impl_->matricesOnce, [this] { impl_->extractMatrices(); });
+}
+
 const SparseMatrix& Hierarchy::refinement(Scheme scheme, int j) const {
   if (j < 0 || j >= levels())
     throw Error("refinement level " + std::to_string(j) + " out of range 0.." +
                 std::to_string(levels() - 1));
+  prepareRefinement();
   const SparseMatrix& P = impl_->P[scheme == Scheme::Loop ? 0 : 1][j];
   if (P.rows() == 0)
     throw Error(std::string("this hierarchy was built without the ") + schemeName(scheme) +

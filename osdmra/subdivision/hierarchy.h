@@ -64,9 +64,13 @@ class Hierarchy {
   int midpoint(int j, int a, int b) const;
 
   /// P^{j+1} (n_{j+1} x n_j) for 0 <= j < J, taken from OpenSubdiv: Loop's vertex
-  /// interpolation, or the varying (linear) interpolation on the same refiner.
-  /// Every row sums to 1.
+  /// interpolation, or the varying (linear) interpolation on the same refiner, on first
+  /// use (then the refiner is freed). Every row sums to 1.
   const SparseMatrix& refinement(Scheme scheme, int j) const;
+  /// Extracts the refinement matrices now rather than at the first refinement() (they
+  /// are extracted once, on first use, thread-safe): for a caller with a thread to spare
+  /// while another starts on the faces and edges.
+  void prepareRefinement() const;
 
   /// Loop limit positions and unit normals, at the vertices of M^level, of the surface
   /// with control points `c` on M^level (OpenSubdiv's PrimvarRefiner::Limit with the

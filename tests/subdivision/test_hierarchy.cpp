@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <thread>
 
 #include "osdmra/base/error.h"
 #include "osdmra/mesh/mesh.h"
@@ -140,4 +141,28 @@ TEST(Hierarchy, RefinementRowsAreTheClosedFormRules) {
       }
     }
   }
+}
+
+// The refinement matrices are extracted once, on first use, whichever thread asks first
+// (a decoder asks from the thread that builds its filter bank while another decodes):
+// the same matrices as a hierarchy asked on one thread, and only the scheme asked for.
+TEST(Hierarchy, RefinementIsExtractedOnceWhicheverThreadAsks) {
+  const TriMesh base = shapes::torus();
+  const int n = static_cast<int>(base.V.rows());
+  const Hierarchy alone(base.F, n, 3);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Hierarchy shared(base.F, n, 3);
+    std::thread other([&] { shared.prepareRefinement(); });
+    const SparseMatrix& here = shared.refinement(Scheme::Loop, 2);
+    other.join();
+    EXPECT_EQ(SparseMatrix(here - alone.refinement(Scheme::Loop, 2)).norm(), 0.0);
+    for (int j = 0; j < 3; ++j)
+      for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+        const SparseMatrix d = shared.refinement(s, j) - alone.refinement(s, j);
+        EXPECT_EQ(d.norm(), 0.0);
+      }
+  }
+  const Hierarchy linearOnly(base.F, n, 2, Scheme::Linear);
+  EXPECT_EQ(linearOnly.refinement(Scheme::Linear, 1).rows(), linearOnly.numVertices(2));
+  EXPECT_THROW(linearOnly.refinement(Scheme::Loop, 1), Error);
 }
