@@ -140,15 +140,17 @@ Points rebuild(const FilterBank& bank, const OszHeader& h, Points c,
   return c;
 }
 
+// The zerotree of the first `size` bytes of coefficient data.
+ZerotreeState decodeCoefficients(const EdgeTree& tree, const OszHeader& h,
+                                 const std::vector<std::uint8_t>& data, std::size_t size) {
+  RangeDecoder dec(data.data(), std::min(size, data.size()));
+  return decodeZerotree(tree, h.topPlane, dec);
+}
+
 // The decode of the first `size` bytes of coefficient data.
 Points decodePrefix(const FilterBank& bank, const EdgeTree& tree, const OszHeader& h,
-                    const Points& base, const std::vector<std::uint8_t>& data, std::size_t size,
-                    ZerotreeState* state = nullptr) {
-  RangeDecoder dec(data.data(), std::min(size, data.size()));
-  ZerotreeState s = decodeZerotree(tree, h.topPlane, dec);
-  const Points c = rebuild(bank, h, base, reconstruct(s));
-  if (state) *state = std::move(s);
-  return c;
+                    const Points& base, const std::vector<std::uint8_t>& data, std::size_t size) {
+  return rebuild(bank, h, base, reconstruct(decodeCoefficients(tree, h, data, size)));
 }
 
 OszHeader makeHeader(const FilterBank& bank, const Points& finest, const CodecOptions& o) {
@@ -325,11 +327,10 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
     hier.prepareRefinement();
     return makeFilterBank(hier, h.scheme, h.wavelets, {}, false);
   });
-  RangeDecoder dec(f.coefficients.data(), f.coefficients.size());
-  const ZerotreeState state = decodeZerotree(edgeTree(hier), h.topPlane, dec);
-  const std::vector<std::vector<double>> steps = reconstruct(state);
+  const ZerotreeState state =
+      decodeCoefficients(edgeTree(hier), h, f.coefficients, f.coefficients.size());
   Decompressed out;
-  out.mesh.V = rebuild(bank.get(), h, base.V, steps);
+  out.mesh.V = rebuild(bank.get(), h, base.V, reconstruct(state));
   // Finite fields can still multiply out of range (a huge step, a coefficient of
   // 2^29 steps): such a stream cannot be an encoder's.
   if (!out.mesh.V.allFinite())

@@ -361,13 +361,9 @@ void TriangleBvh::facesInBox(const Vec3& lo, const Vec3& hi, std::vector<int>& f
   }
 }
 
-bool TriangleBvh::trianglesBoxesMeet(int i, int j) const {
-  const Vec3 *p = &corners_[3 * static_cast<std::size_t>(i)],
-             *q = &corners_[3 * static_cast<std::size_t>(j)];
-  return (p[0].cwiseMin(p[1]).cwiseMin(p[2]).array() <= q[0].cwiseMax(q[1]).cwiseMax(q[2]).array())
-             .all() &&
-         (p[0].cwiseMax(p[1]).cwiseMax(p[2]).array() >= q[0].cwiseMin(q[1]).cwiseMin(q[2]).array())
-             .all();
+TriangleBvh::TriangleBox TriangleBvh::triangleBox(int i) const {
+  const Vec3* p = &corners_[3 * static_cast<std::size_t>(i)];
+  return {p[0].cwiseMin(p[1]).cwiseMin(p[2]), p[0].cwiseMax(p[1]).cwiseMax(p[2])};
 }
 
 std::vector<std::array<int, 2>> TriangleBvh::selfPairTasks(int count) const {

@@ -130,7 +130,14 @@ class TriangleBvh {
   /// themselves and each other; distinct nodes split the larger one (an inner node).
   template <class Push>
   void splitPair(int a, int b, Push&& push) const;
-  bool trianglesBoxesMeet(int i, int j) const;
+  // A triangle's bounding box, exact (its corners' extremes).
+  struct TriangleBox {
+    Eigen::Vector3d lo, hi;
+    bool meets(const TriangleBox& o) const {
+      return (lo.array() <= o.hi.array()).all() && (hi.array() >= o.lo.array()).all();
+    }
+  };
+  TriangleBox triangleBox(int i) const;
 };
 
 template <class Push>
@@ -166,10 +173,16 @@ void TriangleBvh::forBoxesMeeting(std::array<int, 2> task, Visit&& visit) const 
       splitPair(a, b, [&](int x, int y) { stack.push_back({x, y}); });
       continue;
     }
-    for (int i = na.first; i < na.first + na.count; ++i)
-      for (int j = a == b ? i + 1 : nb.first; j < nb.first + nb.count; ++j)
-        if (trianglesBoxesMeet(i, j))
-          visit(std::min(faceOf_[i], faceOf_[j]), std::max(faceOf_[i], faceOf_[j]));
+    // Each triangle's box once per pair of leaves, not once per pair of triangles.
+    std::array<TriangleBox, kLeafSize> boxA, boxB;
+    for (int i = 0; i < na.count; ++i) boxA[i] = triangleBox(na.first + i);
+    for (int j = 0; j < nb.count; ++j) boxB[j] = triangleBox(nb.first + j);
+    for (int i = 0; i < na.count; ++i)
+      for (int j = a == b ? i + 1 : 0; j < nb.count; ++j)
+        if (boxA[i].meets(boxB[j])) {
+          const int f = faceOf_[na.first + i], g = faceOf_[nb.first + j];
+          visit(std::min(f, g), std::max(f, g));
+        }
   }
 }
 

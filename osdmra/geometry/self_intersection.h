@@ -25,10 +25,10 @@ struct SelfIntersections {
 bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::array<int, 3>& g);
 
 /// Tests every pair of faces whose bounding boxes overlap (a bounding volume
-/// hierarchy traversed against itself finds them), on all cores. Exact up to rounding: segment-triangle tests
-/// with a relative tolerance of 1e-12, so two faces that merely touch at a point may
-/// or may not count. Coplanar overlaps of disjoint faces are not detected. Throws
-/// Error for a mesh without faces.
+/// hierarchy traversed against itself finds them), on all cores. Exact up to
+/// rounding: segment-triangle tests with a relative tolerance of 1e-12, so two faces
+/// that merely touch at a point may or may not count. Coplanar overlaps of disjoint faces are not
+/// detected. Throws Error for a mesh without faces.
 SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed = 16);
 
 /// Every pair {f, g} (f < g) of SelfIntersections::count with f or g among `faces`
