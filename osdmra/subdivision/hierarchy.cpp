@@ -166,23 +166,46 @@ std::unique_ptr<Far::TopologyRefiner> createLoopRefiner(const Faces& F, int numV
   return refiner;
 }
 
-// P^{j+1} from OpenSubdiv's interpolation with the recording primvar.
-SparseMatrix extractRefinement(const Far::TopologyRefiner& R, Scheme scheme, int j) {
+// Loop's P^{j+1} from OpenSubdiv's interpolation with the recording primvar.
+SparseMatrix extractLoopRefinement(const Far::TopologyRefiner& R, int j) {
   const int rows = R.GetLevel(j + 1).GetNumVertices(), cols = R.GetLevel(j).GetNumVertices();
   Runs runs;
-  const std::size_t entries = static_cast<std::size_t>(rows) * (scheme == Scheme::Loop ? 6 : 2);
-  runs.col.reserve(entries);
-  runs.weight.reserve(entries);
+  runs.col.reserve(static_cast<std::size_t>(rows) * 6);
+  runs.weight.reserve(static_cast<std::size_t>(rows) * 6);
   runs.row.reserve(rows);
   runs.start.reserve(rows);
-  Far::PrimvarRefinerReal<double> refiner(R);
   SourceArray src;
   RunWriterArray dst{&runs};
-  if (scheme == Scheme::Loop)
-    refiner.Interpolate(j + 1, src, dst);
-  else
-    refiner.InterpolateVarying(j + 1, src, dst);
+  Far::PrimvarRefinerReal<double>(R).Interpolate(j + 1, src, dst);
   return fromRuns(rows, cols, runs);
+}
+
+// P^{j+1} of the polyhedral scheme, written from the edges: vertex v of level j keeps
+// its position (row v) and edge e's new vertex n + e is the midpoint of its ends, as
+// OpenSubdiv's varying interpolation gives (the ordering the constructor checks), at a
+// fraction of its cost: a decoder of a polyhedral stream never runs PrimvarRefiner.
+SparseMatrix linearRefinement(int n, const std::vector<std::array<int, 2>>& edges) {
+  const int rows = n + static_cast<int>(edges.size());
+  SparseMatrix P(rows, n);
+  P.resizeNonZeros(n + 2 * static_cast<Eigen::Index>(edges.size()));
+  int* outer = P.outerIndexPtr();
+  int* col = P.innerIndexPtr();
+  double* value = P.valuePtr();
+  int k = 0;
+  for (int v = 0; v < n; ++v) {
+    outer[v] = k;
+    col[k] = v;
+    value[k++] = 1.0;
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    outer[n + e] = k;
+    for (int end : {std::min(edges[e][0], edges[e][1]), std::max(edges[e][0], edges[e][1])}) {
+      col[k] = end;
+      value[k++] = 0.5;
+    }
+  }
+  outer[rows] = k;
+  return P;
 }
 
 }  // namespace
@@ -242,7 +265,8 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
   impl_->conn.resize(levels + 1);
   impl_->connOnce = std::vector<std::once_flag>(levels + 1);
   impl_->only = only;
-  impl_->refiner = std::move(refiner);
+  // Only Loop's matrices need OpenSubdiv's interpolation (linearRefinement).
+  if (only != Scheme::Linear) impl_->refiner = std::move(refiner);
 }
 
 void Hierarchy::Impl::extractMatrices() {
@@ -251,7 +275,9 @@ void Hierarchy::Impl::extractMatrices() {
   for (Scheme s : {Scheme::Loop, Scheme::Linear})
     for (int j = 0; j < J; ++j)
       extracted[s == Scheme::Loop ? 0 : 1].push_back(
-          !only || *only == s ? extractRefinement(*refiner, s, j) : SparseMatrix());
+          only && *only != s    ? SparseMatrix()
+          : s == Scheme::Linear ? linearRefinement(numVertices[j], edges[j])
+                                : extractLoopRefinement(*refiner, j));
   P[0] = std::move(extracted[0]);
   P[1] = std::move(extracted[1]);
   refiner.reset();
