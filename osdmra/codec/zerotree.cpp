@@ -112,24 +112,45 @@ struct Contexts {
 struct State {
   std::vector<std::vector<std::int32_t>> high;
   std::vector<std::vector<std::int8_t>> plane, sign, born;
-  std::vector<std::vector<std::uint8_t>> reached, subtree, parentSig;
+  std::vector<std::vector<std::uint8_t>> subtree, parentSig;
+  // The passes visit only the nodes they have a decision for, as bit sets per level
+  // (ascending order, as a scan of every node would visit them: the same stream at a
+  // fraction of the cost): `active`, reached nodes with a sorting decision left;
+  // `significant`, nodes significant before this plane; `bornNow`, from this plane.
+  std::vector<std::vector<std::uint64_t>> active, significant, bornNow;
   int planesDone = 0;
   bool complete = false;
 
   explicit State(const EdgeTree& t) {
     for (int E : t.edges) {
-      const std::size_t n = 3 * static_cast<std::size_t>(E);
+      const std::size_t n = 3 * static_cast<std::size_t>(E), words = (n + 63) / 64;
       high.emplace_back(n, 0);
       plane.emplace_back(n, -1);
       sign.emplace_back(n, 1);
       born.emplace_back(n, -1);
-      reached.emplace_back(n, 0);
       subtree.emplace_back(n, 0);
       parentSig.emplace_back(n, 0);
+      active.emplace_back(words, 0);
+      significant.emplace_back(words, 0);
+      bornNow.emplace_back(words, 0);
     }
-    if (!reached.empty()) std::fill(reached[0].begin(), reached[0].end(), 1);
+    if (!t.edges.empty())
+      for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(t.edges[0]); ++i) mark(active[0], i);
+  }
+  static void mark(std::vector<std::uint64_t>& set, std::size_t i) {
+    set[i / 64] |= std::uint64_t{1} << (i % 64);
   }
 };
+
+// Calls visit(i) for every member of `set` in ascending order, each word read before
+// its members are visited (visit may change the set). Stops when visit returns false.
+template <class Visit>
+bool forEachMember(const std::vector<std::uint64_t>& set, Visit&& visit) {
+  for (std::size_t w = 0; w < set.size(); ++w)
+    for (std::uint64_t bits = set[w]; bits != 0; bits &= bits - 1)
+      if (!visit(64 * w + static_cast<std::size_t>(__builtin_ctzll(bits)))) return false;
+  return true;
+}
 
 // How many edges beside node i (same component) are significant, or with `subtree`
 // have a subtree known to be, capped at 2.
@@ -164,6 +185,7 @@ bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts
       s.born[j][i] = s.plane[j][i] = static_cast<std::int8_t>(p);
       s.high[j][i] = 1;
       s.sign[j][i] = negative ? -1 : 1;
+      State::mark(s.bornNow[j], i);
     }
   }
   if (j + 1 < static_cast<int>(t.edges.size()) && !s.subtree[j][i]) {
@@ -176,7 +198,7 @@ bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts
       for (int child : t.children[j][i / 3])
         if (child >= 0) {
           const std::size_t k = 3 * static_cast<std::size_t>(child) + i % 3;
-          s.reached[j + 1][k] = 1;
+          State::mark(s.active[j + 1], k);
           s.parentSig[j + 1][k] = static_cast<std::uint8_t>(self);
         }
     }
@@ -184,27 +206,46 @@ bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts
   return true;
 }
 
+// A node leaves the sorting passes once significant with its subtree known to be
+// (or at the last level, where it has none).
+bool sortingDone(const EdgeTree& t, const State& s, int j, std::size_t i) {
+  return s.born[j][i] >= 0 && (j + 1 == static_cast<int>(t.edges.size()) || s.subtree[j][i]);
+}
+
 template <class Io>
 bool sortingPass(const EdgeTree& t, int p, State& s, Contexts& ctx, Io& io) {
-  for (int j = 0; j < static_cast<int>(t.edges.size()); ++j)
-    for (std::size_t i = 0; i < s.reached[j].size(); ++i)
-      if (s.reached[j][i] && !sortNode(t, j, i, p, s, ctx, io)) return false;
+  for (int j = 0; j < static_cast<int>(t.edges.size()); ++j) {
+    std::vector<std::uint64_t>& active = s.active[j];
+    const bool ok = forEachMember(active, [&](std::size_t i) {
+      if (!sortNode(t, j, i, p, s, ctx, io)) return false;
+      if (sortingDone(t, s, j, i)) active[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+      return true;
+    });
+    if (!ok) return false;
+  }
   return true;
 }
 
 template <class Io>
 bool refinementPass(int p, State& s, Contexts& ctx, Io& io) {
-  for (std::size_t j = 0; j < s.born.size(); ++j)
-    for (std::size_t i = 0; i < s.born[j].size(); ++i) {
-      if (s.born[j][i] <= p) continue;  // insignificant (-1) or new in this plane
-      const int lc = std::min(static_cast<int>(j), kLevelContexts - 1);
+  for (std::size_t j = 0; j < s.significant.size(); ++j) {
+    const int lc = std::min(static_cast<int>(j), kLevelContexts - 1);
+    const bool ok = forEachMember(s.significant[j], [&](std::size_t i) {
       const int first = s.born[j][i] == p + 1;
       BitModel& m = ctx.refinement[lc][i % 3 == 0 ? 0 : 1][first];
       const int bit = io.refinement(m, static_cast<int>(j), i, p);
       if (io.stopped()) return false;
       s.high[j][i] = 2 * s.high[j][i] + bit;
       s.plane[j][i] = static_cast<std::int8_t>(p);
+      return true;
+    });
+    if (!ok) return false;
+    // This plane's new nodes refine from the next plane on.
+    for (std::size_t w = 0; w < s.significant[j].size(); ++w) {
+      s.significant[j][w] |= s.bornNow[j][w];
+      s.bornNow[j][w] = 0;
     }
+  }
   return true;
 }
 
