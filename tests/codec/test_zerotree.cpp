@@ -7,6 +7,7 @@
 #include <random>
 #include <set>
 
+#include "osdmra/codec/osz_format.h"
 #include "osdmra/codec/zerotree.h"
 #include "osdmra/subdivision/shapes.h"
 
@@ -101,6 +102,32 @@ TEST(Zerotree, WholeStreamsDecodeEveryCoefficient) {
       for (std::size_t i = 0; i < q[j].size(); ++i)
         ASSERT_EQ(v[j][i], reconstructed(q[j][i])) << "level " << j << " index " << i;
   }
+}
+
+// The stream is the file format: a change to the traversal or the contexts that
+// changed a single decision would leave older .osz files undecodable. The levels come
+// from mt19937's raw output (fixed by the standard, unlike its distributions), and
+// the size and CRC-32 are those of the coder that wrote the first streams.
+TEST(Zerotree, TheStreamOfFixedLevelsIsTheFormatsOwn) {
+  const TriMesh base = shapes::byName("torus");
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
+  const EdgeTree t = edgeTree(h);
+  std::mt19937 rng(7);
+  QuantisedLevels q(t.edges.size());
+  for (std::size_t j = 0; j < q.size(); ++j) {
+    q[j].resize(3 * static_cast<std::size_t>(t.edges[j]));
+    for (std::int32_t& v : q[j]) {
+      const std::uint32_t r = rng();
+      const int bits = static_cast<int>(r % 13) - 2 * static_cast<int>(j);  // finer: smaller
+      v = bits <= 0 || (r >> 8) % 3 == 0 ? 0 : static_cast<std::int32_t>((r >> 12) % (1u << bits));
+      if ((r >> 4) & 1) v = -v;
+    }
+  }
+  RangeEncoder enc;
+  encodeZerotree(t, q, topPlane(q), enc);
+  const std::vector<std::uint8_t> bytes = enc.finish();
+  EXPECT_EQ(bytes.size(), 6905u);
+  EXPECT_EQ(crc32(bytes.data(), bytes.size()), 2024620854u);
 }
 
 TEST(Zerotree, AllZeroLevelsCostAlmostNothing) {
