@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -234,57 +235,80 @@ constexpr LatticeWeights kLoopLattice{13109.0 / 66367, 0.26026168103351543, -0.0
                                       -0.060214499406156483, -0.047047034167273409};
 constexpr LatticeWeights kLinearLattice{5.0 / 28, 41.0 / 212, -3.0 / 212, -11.0 / 424, -5.0 / 212};
 
-// Column of alpha^j for edge {a, b} of fixed wavelets as (row, value), rows
-// ascending: the lattice's r = 1 weights where both ends are interior of valence 6
-// (which the lattice's 1-ring needs), its r = 0 weights elsewhere. Any weights give
+// Column of alpha^j for edge {a, b} of fixed wavelets: emit(row, value) for each entry,
+// rows ascending. The lattice's r = 1 weights where both ends are interior of valence
+// 6 (which the lattice's 1-ring needs), its r = 0 weights elsewhere. Any weights give
 // an invertible lifting; these are the quasi-wavelets' wherever the neighbourhood
 // is the lattice's, and within 0.1 dB of them in the codec (docs/COMPRESSION.md).
+template <class Emit>
+void fixedEntries(const Connectivity& conn, int a, int b, const LatticeWeights& w, Emit&& emit) {
+  const auto regular = [&](int v) { return !conn.isBoundaryVertex(v) && conn.valence(v) == 6; };
+  if (!regular(a) || !regular(b)) {
+    emit(std::min(a, b), w.pair);
+    emit(std::max(a, b), w.pair);
+    return;
+  }
+  // Ten entries, each as (row << 4 | slot) so that sorting plain integers orders the
+  // rows (this runs once per new vertex of every level in a decoder).
+  const double byPosition[6] = {w.end, w.wing, w.side, w.across, w.side, w.wing};
+  std::uint64_t key[10];
+  double value[10];
+  int count = 0;
+  const auto add = [&](int row, double weight) {
+    key[count] = static_cast<std::uint64_t>(row) << 4 | static_cast<std::uint64_t>(count);
+    value[count++] = weight;
+  };
+  for (const auto& [u, other] : {std::pair{a, b}, std::pair{b, a}}) {
+    const IndexSpan ring = conn.ring(u);
+    int from = 0;
+    while (ring[from] != other) ++from;
+    add(u, byPosition[0]);
+    for (int i = 1; i < 6; ++i)
+      if (u == a || (i != 1 && i != 5)) add(ring[(from + i) % 6], byPosition[i]);
+  }
+  for (int i = 1; i < count; ++i) {  // insertion sort of ten keys
+    const std::uint64_t x = key[i];
+    int k = i;
+    for (; k > 0 && key[k - 1] > x; --k) key[k] = key[k - 1];
+    key[k] = x;
+  }
+  // A small closed mesh can wrap an end's ring onto the other's: weights add up.
+  for (int i = 0; i < count;) {
+    const std::uint64_t row = key[i] >> 4;
+    double sum = value[key[i] & 15];
+    for (++i; i < count && key[i] >> 4 == row; ++i) sum += value[key[i] & 15];
+    emit(static_cast<int>(row), sum);
+  }
+}
+
 void fixedColumn(const Connectivity& conn, int a, int b, const LatticeWeights& w,
                  std::vector<std::pair<int, double>>& column) {
   column.clear();
-  const auto regular = [&](int v) { return !conn.isBoundaryVertex(v) && conn.valence(v) == 6; };
-  if (!regular(a) || !regular(b)) {
-    column = {{a, w.pair}, {b, w.pair}};
-  } else {
-    const double byPosition[6] = {w.end, w.wing, w.side, w.across, w.side, w.wing};
-    for (const auto& [u, other] : {std::pair{a, b}, std::pair{b, a}}) {
-      const IndexSpan ring = conn.ring(u);
-      int from = 0;
-      while (ring[from] != other) ++from;
-      column.emplace_back(u, byPosition[0]);
-      for (int i = 1; i < 6; ++i)
-        if (u == a || (i != 1 && i != 5)) column.emplace_back(ring[(from + i) % 6], byPosition[i]);
-    }
-  }
-  std::sort(column.begin(), column.end());
-  // A small closed mesh can wrap an end's ring onto the other's: weights add up.
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < column.size(); ++i)
-    if (n > 0 && column[n - 1].first == column[i].first)
-      column[n - 1].second += column[i].second;
-    else
-      column[n++] = column[i];
-  column.resize(n);
+  fixedEntries(conn, a, b, w, [&](int row, double value) { column.emplace_back(row, value); });
 }
 
-// alpha^j of fixed wavelets, for a decoder: no neighbourhood is looked at beyond the
-// edge's ends.
-AlphaMatrix fixedCorrections(const Hierarchy& h, Scheme scheme, int j) {
+// alpha^j of fixed wavelets, for a decoder (no neighbourhood is looked at beyond the
+// edge's ends), written in place as compressed columns of at most ten entries.
+void fixedCorrections(const Hierarchy& h, Scheme scheme, int j, AlphaMatrix& alpha) {
   const int n = h.numVertices(j), numNew = h.numVertices(j + 1) - n;
   const Connectivity& conn = h.connectivity(j);
   const LatticeWeights& w = scheme == Scheme::Loop ? kLoopLattice : kLinearLattice;
-  AlphaMatrix alpha(n, numNew);
-  alpha.reserve(static_cast<Eigen::Index>(numNew) * 10);
-  std::vector<std::pair<int, double>> column;
+  alpha.resize(n, numNew);
+  alpha.resizeNonZeros(static_cast<Eigen::Index>(numNew) * 10);
+  int* outer = alpha.outerIndexPtr();
+  int* rows = alpha.innerIndexPtr();
+  double* values = alpha.valuePtr();
+  int nnz = 0;
   for (int e = 0; e < numNew; ++e) {
     const auto [a, b] = h.parentEdge(j, e);
-    fixedColumn(conn, a, b, w, column);
-    alpha.startVec(e);
-    for (auto [row, value] : column) alpha.insertBack(row, e) = value;
+    outer[e] = nnz;
+    fixedEntries(conn, a, b, w, [&](int row, double value) {
+      rows[nnz] = row;
+      values[nnz++] = value;
+    });
   }
-  alpha.finalize();
-  alpha.makeCompressed();
-  return alpha;
+  outer[numNew] = nnz;
+  alpha.data().resize(nnz);
 }
 
 // alpha^j of the pre-wavelets and, when `norms` is given, ||psi^j_m|| for every new
@@ -501,7 +525,7 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     // wavelets), and no norms, which would.
     for (int j = 0; j < J; ++j)
       if (fixed)
-        alphas[j] = fixedCorrections(h, scheme, j);
+        fixedCorrections(h, scheme, j, alphas[j]);
       else
         alphas[j].resize(h.numVertices(j), h.numVertices(j + 1) - h.numVertices(j));
     if (progress) progress("wavelets", 1.0);
