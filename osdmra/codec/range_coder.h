@@ -36,15 +36,15 @@ struct BitModel {
   static constexpr std::uint32_t kOne = 1u << kStateBits;
   std::uint32_t state = kOne / 2;
   std::uint8_t seen = 0;  ///< decisions so far, saturating: sets the adaptation rate
-  void update(int bit);
+  inline void update(int bit);
   /// The coded probability of 0 in 1/65536, clamped away from 0 and 1.
-  std::uint32_t p0() const;
+  inline std::uint32_t p0() const;
 };
 
 class RangeEncoder {
  public:
   /// Codes `bit` (0 or 1) with the context `m`, then adapts `m`.
-  void encode(BitModel& m, int bit);
+  inline void encode(BitModel& m, int bit);
   /// Codes `bit` with probability 1/2 and no context (signs, raw values).
   void encodeEven(int bit);
   /// Codes the low `count` bits of `value` (count <= 32), most significant first,
@@ -77,9 +77,9 @@ class RangeDecoder {
 
   /// Decodes one bit with the context `m` and adapts `m`; 0, without adapting, once
   /// exhausted().
-  int decode(BitModel& m);
+  inline int decode(BitModel& m);
   /// Decodes a bit coded by encodeEven.
-  int decodeEven();
+  int decodeEven() { return decide(range_ >> 1); }
   /// Decodes `count` bits coded by encodeBits.
   std::uint32_t decodeBits(int count);
 
@@ -88,7 +88,7 @@ class RangeDecoder {
   bool exhausted() const { return exhausted_; }
 
  private:
-  int decide(std::uint32_t bound);
+  inline int decide(std::uint32_t bound);
   std::uint8_t byteAt(std::size_t i, std::uint8_t pad) const { return i < size_ ? data_[i] : pad; }
 
   const std::uint8_t* data_;
@@ -97,5 +97,79 @@ class RangeDecoder {
   std::uint32_t low_ = 0, high_ = 0;  ///< code registers: missing bytes as 0x00, 0xFF
   bool exhausted_ = false;
 };
+
+// ---- Inline definitions: a call per decision would cost as much as the decision ----
+
+namespace range_coder_detail {
+
+inline constexpr std::uint32_t kTop = 1u << 24;  // renormalise when the range drops below
+// Coded probabilities stay inside [kMinP, 65536 - kMinP], so neither outcome ever costs
+// more than log2(65536 / 31) = 11 bits and every bound is a proper sub-range.
+inline constexpr std::uint32_t kMinP = 31;
+
+// Adaptation shift by how many decisions the context has seen: fast at first, then
+// 1/64 (a window of about 64 decisions, which follows the drift of a zerotree's
+// statistics from one bit plane to the next).
+inline int adaptShift(std::uint8_t seen) {
+  if (seen < 4) return 2;
+  if (seen < 12) return 3;
+  if (seen < 28) return 4;
+  if (seen < 60) return 5;
+  if (seen < 124) return 6;
+  return 7;
+}
+
+}  // namespace range_coder_detail
+
+inline void BitModel::update(int bit) {
+  const int shift = range_coder_detail::adaptShift(seen);
+  if (seen < 255) ++seen;
+  if (bit)
+    state -= state >> shift;
+  else
+    state += (kOne - state) >> shift;
+}
+
+inline std::uint32_t BitModel::p0() const {
+  const std::uint32_t p = state >> (kStateBits - 16);
+  using range_coder_detail::kMinP;
+  return p < kMinP ? kMinP : p > 65536 - kMinP ? 65536 - kMinP : p;
+}
+
+inline void RangeEncoder::encode(BitModel& m, int bit) {
+  code((range_ >> 16) * m.p0(), bit);
+  m.update(bit);
+}
+
+inline int RangeDecoder::decide(std::uint32_t bound) {
+  if (exhausted_) return 0;
+  // Both registers are offsets from the interval's low end; the true stream lies
+  // between them, so equal answers are the encoder's answer.
+  const int bit = low_ >= bound;
+  if (bit != (high_ >= bound)) {
+    exhausted_ = true;
+    return 0;
+  }
+  if (bit) {
+    low_ -= bound;
+    high_ -= bound;
+    range_ -= bound;
+  } else {
+    range_ = bound;
+  }
+  while (range_ < range_coder_detail::kTop) {
+    range_ <<= 8;
+    low_ = (low_ << 8) | byteAt(next_, 0x00);
+    high_ = (high_ << 8) | byteAt(next_, 0xFF);
+    ++next_;
+  }
+  return bit;
+}
+
+inline int RangeDecoder::decode(BitModel& m) {
+  const int bit = decide((range_ >> 16) * m.p0());
+  if (!exhausted_) m.update(bit);
+  return bit;
+}
 
 }  // namespace osdmra
