@@ -113,6 +113,8 @@ struct State {
   std::vector<std::vector<std::int32_t>> high;
   std::vector<std::vector<std::int8_t>> plane, sign, born;
   std::vector<std::vector<std::uint8_t>> subtree, parentSig;
+  // Per node: how many of its neighbours are significant, and have significant subtrees.
+  std::vector<std::vector<std::uint8_t>> significantNear, subtreeNear;
   // The passes visit only the nodes they have a decision for, as bit sets per level
   // (ascending order, as a scan of every node would visit them: the same stream at a
   // fraction of the cost): `active`, reached nodes with a sorting decision left;
@@ -130,6 +132,8 @@ struct State {
       born.emplace_back(n, -1);
       subtree.emplace_back(n, 0);
       parentSig.emplace_back(n, 0);
+      significantNear.emplace_back(n, 0);
+      subtreeNear.emplace_back(n, 0);
       active.emplace_back(words, 0);
       significant.emplace_back(words, 0);
       bornNow.emplace_back(words, 0);
@@ -152,16 +156,18 @@ bool forEachMember(const std::vector<std::uint64_t>& set, Visit&& visit) {
   return true;
 }
 
-// How many edges beside node i (same component) are significant, or with `subtree`
-// have a subtree known to be, capped at 2.
-int neighbourCount(const EdgeTree& t, const State& s, int j, std::size_t i, bool subtree) {
-  int count = 0;
+// Node i's neighbours (same component, the edges beside it in its triangles; the
+// relation is symmetric) have counted(j, i) of them significant, or with `subtree`
+// with a subtree known to be: counts kept as nodes change rather than gathered at
+// every decision. The context caps them at 2.
+void countForNeighbours(const EdgeTree& t, std::vector<std::uint8_t>& counts, int j,
+                        std::size_t i) {
   for (int e : t.neighbours[j][i / 3])
-    if (e >= 0) {
-      const std::size_t k = 3 * static_cast<std::size_t>(e) + i % 3;
-      count += subtree ? s.subtree[j][k] != 0 : s.born[j][k] >= 0;
-    }
-  return std::min(count, 2);
+    if (e >= 0) ++counts[3 * static_cast<std::size_t>(e) + i % 3];
+}
+
+int capped(std::uint8_t count) {
+  return count < 2 ? count : 2;
 }
 
 int componentClass(const State& s, int j, std::size_t i) {
@@ -176,13 +182,14 @@ template <class Io>
 bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts& ctx, Io& io) {
   const int lc = std::min(j, kLevelContexts - 1), cls = componentClass(s, j, i);
   if (s.born[j][i] < 0) {
-    BitModel& m = ctx.significance[lc][cls][s.parentSig[j][i]][neighbourCount(t, s, j, i, false)];
+    BitModel& m = ctx.significance[lc][cls][s.parentSig[j][i]][capped(s.significantNear[j][i])];
     const int bit = io.significant(m, j, i, p);
     if (io.stopped()) return false;
     if (bit) {
       const int negative = io.sign(j, i);
       if (io.stopped()) return false;
       s.born[j][i] = s.plane[j][i] = static_cast<std::int8_t>(p);
+      countForNeighbours(t, s.significantNear[j], j, i);
       s.high[j][i] = 1;
       s.sign[j][i] = negative ? -1 : 1;
       State::mark(s.bornNow[j], i);
@@ -190,11 +197,11 @@ bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts
   }
   if (j + 1 < static_cast<int>(t.edges.size()) && !s.subtree[j][i]) {
     const int self = s.born[j][i] >= 0;
-    const int bit =
-        io.subtree(ctx.subtree[lc][cls][self][neighbourCount(t, s, j, i, true)], j, i, p);
+    const int bit = io.subtree(ctx.subtree[lc][cls][self][capped(s.subtreeNear[j][i])], j, i, p);
     if (io.stopped()) return false;
     if (bit) {
       s.subtree[j][i] = 1;
+      countForNeighbours(t, s.subtreeNear[j], j, i);
       for (int child : t.children[j][i / 3])
         if (child >= 0) {
           const std::size_t k = 3 * static_cast<std::size_t>(child) + i % 3;
