@@ -1,6 +1,7 @@
 #include "osdmra/codec/codec.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -322,15 +323,34 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   const Hierarchy hier(base.F, h.baseVertices, h.levels, h.scheme);
   // The refinement matrices and the filter bank (without the wavelet norms: synthesis
   // needs only alpha), and the zerotree's decoding, each need only the hierarchy's
-  // faces and edges: on two cores they run side by side.
-  std::future<FilterBank> bank = std::async(std::launch::async, [&] {
+  // faces and edges: on two cores they run side by side. Local corrections are built
+  // level by level, finest first, by whichever thread is free (the zerotree's is
+  // once it is decoded, early at low rates).
+  FilterBank bank;
+  bank.scheme = h.scheme;
+  bank.wavelets = h.wavelets;
+  bank.hierarchy = &hier;
+  bank.alpha.resize(h.levels);
+  std::atomic<int> claimed{0};
+  const auto takeLevels = [&] {
+    for (int k = claimed++; k < h.levels; k = claimed++)
+      localCorrections(hier, h.scheme, h.wavelets.kind, h.levels - 1 - k,
+                       bank.alpha[h.levels - 1 - k]);
+  };
+  const bool local = correctionsAreLocal(h.wavelets);
+  std::future<void> second = std::async(std::launch::async, [&] {
     hier.prepareRefinement();
-    return makeFilterBank(hier, h.scheme, h.wavelets, {}, false);
+    if (local)
+      takeLevels();
+    else
+      bank.alpha = waveletCorrections(hier, h.scheme, h.wavelets);
   });
   const ZerotreeState state =
       decodeCoefficients(edgeTree(hier), h, f.coefficients, f.coefficients.size());
+  if (local) takeLevels();
+  second.get();
   Decompressed out;
-  out.mesh.V = rebuild(bank.get(), h, base.V, reconstruct(state));
+  out.mesh.V = rebuild(bank, h, base.V, reconstruct(state));
   // Finite fields can still multiply out of range (a huge step, a coefficient of
   // 2^29 steps): such a stream cannot be an encoder's.
   if (!out.mesh.V.allFinite())

@@ -519,15 +519,10 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
   const int J = h.levels();
   std::vector<AlphaMatrix> alphas(J);
   if (norms) norms->assign(J, Eigen::VectorXd());
-  const bool fixed = options.kind == WaveletKind::Fixed;
-  if (!norms && (fixed || options.kind == WaveletKind::Lazy)) {
+  if (!norms && correctionsAreLocal(options)) {
     // What a decoder asks for: corrections that need no neighbourhood (none for lazy
     // wavelets), and no norms, which would.
-    for (int j = 0; j < J; ++j)
-      if (fixed)
-        fixedCorrections(h, scheme, j, alphas[j]);
-      else
-        alphas[j].resize(h.numVertices(j), h.numVertices(j + 1) - h.numVertices(j));
+    for (int j = 0; j < J; ++j) localCorrections(h, scheme, options.kind, j, alphas[j]);
     if (progress) progress("wavelets", 1.0);
     return alphas;
   }
@@ -541,6 +536,20 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
   }
   if (progress) progress("wavelets", 1.0);
   return alphas;
+}
+
+bool correctionsAreLocal(const WaveletOptions& options) {
+  return options.kind == WaveletKind::Fixed || options.kind == WaveletKind::Lazy;
+}
+
+void localCorrections(const Hierarchy& h, Scheme scheme, WaveletKind kind, int j,
+                      AlphaMatrix& alpha) {
+  if (kind == WaveletKind::Fixed)
+    fixedCorrections(h, scheme, j, alpha);
+  else if (kind == WaveletKind::Lazy)
+    alpha.resize(h.numVertices(j), h.numVertices(j + 1) - h.numVertices(j));
+  else
+    throw Error("localCorrections: these wavelets' corrections are solved, not local");
 }
 
 SparseMatrix synthesisMatrix(const Hierarchy& h, Scheme scheme, int j, const AlphaMatrix& alpha) {

@@ -23,9 +23,9 @@
 
 #include <vector>
 
+#include "osdmra/base/progress.h"
 #include "osdmra/mra/decomposition.h"
 #include "osdmra/subdivision/hierarchy.h"
-#include "osdmra/base/progress.h"
 
 namespace osdmra {
 
@@ -52,6 +52,15 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                                             const Progress& progress = {},
                                             WaveletStats* stats = nullptr,
                                             std::vector<Eigen::VectorXd>* norms = nullptr);
+
+/// Whether alpha^j of these wavelets is read off the hierarchy alone, level by level
+/// (fixed and lazy wavelets: no neighbourhood solved), as a decoder needs.
+bool correctionsAreLocal(const WaveletOptions& options);
+
+/// alpha^j of wavelets whose corrections are local (correctionsAreLocal), written into
+/// `alpha`: the levels are independent, so a decoder can share them among threads.
+void localCorrections(const Hierarchy& h, Scheme scheme, WaveletKind kind, int j,
+                      AlphaMatrix& alpha);
 
 /// The level-(j+1) coefficients of psi^j_m for every new vertex: Q^{j+1} = E - P alpha
 /// (n_{j+1} x (n_{j+1} - n_j)). For tests and diagnostics; the filter bank never
