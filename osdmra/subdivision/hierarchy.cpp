@@ -104,8 +104,12 @@ SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
     row.clear();
     for (int k = outer[r]; k < outer[r + 1]; ++k)
       row.emplace_back(P.innerIndexPtr()[k], P.valuePtr()[k]);
-    std::stable_sort(row.begin(), row.end(),
-                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t i = 1; i < row.size(); ++i) {  // stable insertion sort: short rows
+      const std::pair<int, double> x = row[i];
+      std::size_t k = i;
+      for (; k > 0 && row[k - 1].first > x.first; --k) row[k] = row[k - 1];
+      row[k] = x;
+    }
     outer[r] = nnz;
     for (std::size_t k = 0; k < row.size(); ++k) {
       if (k > 0 && row[k].first == row[k - 1].first) {
