@@ -156,10 +156,10 @@ bool forEachMember(const std::vector<std::uint64_t>& set, Visit&& visit) {
   return true;
 }
 
-// Node i's neighbours (same component, the edges beside it in its triangles; the
-// relation is symmetric) have counted(j, i) of them significant, or with `subtree`
-// with a subtree known to be: counts kept as nodes change rather than gathered at
-// every decision. The context caps them at 2.
+// Node i has become significant (or its subtree has): each of its neighbours (same
+// component, the edges beside it in its triangles; the relation is symmetric) counts
+// one more such neighbour. The counts are kept as nodes change rather than gathered at
+// every decision; the contexts cap them at 2.
 void countForNeighbours(const EdgeTree& t, std::vector<std::uint8_t>& counts, int j,
                         std::size_t i) {
   for (int e : t.neighbours[j][i / 3])
