@@ -155,7 +155,8 @@ void compare(const std::string& path, const std::vector<long long>& given,
     for (auto [sel, pl] : {std::pair{Selection::Importance, Placement::Surface},
                            std::pair{Selection::RateDistortion, Placement::Surface},
                            std::pair{Selection::RateDistortion, Placement::Fit},
-                           std::pair{Selection::RateDistortion, Placement::Closest}})
+                           std::pair{Selection::RateDistortion, Placement::Closest},
+                           std::pair{Selection::RateDistortion, Placement::Levels}})
       configs.push_back({scheme, sel, pl});
   for (Scheme scheme : {Scheme::Linear, Scheme::Loop})
     configs.push_back({scheme, Selection::RateDistortion, Placement::Fit, true});
@@ -173,6 +174,7 @@ void compare(const std::string& path, const std::vector<long long>& given,
       const auto t0 = Clock::now();
       a.setApproximation(o);
       a.approximator().triangleCounts();
+      a.approximator().prepare();  // Levels: every level's fit, once
       std::fprintf(stderr, "%s: %s: set-up %.3f s\n", name.c_str(), c.name().c_str(),
                    secondsSince(t0));
       for (long long b : budgets) {

@@ -37,7 +37,7 @@ commands:
                                optionally from the most important coefficients only
   lod IN (--epsilon E | --budget N | --keep F) -o OUT [--scheme S] [--rings R]
                  [--importance scaled|plain] [--selection rd|importance] [--exact]
-                 [--placement surface|fit|closest] [--metric domain|surface]
+                 [--placement surface|fit|closest|levels] [--metric domain|surface]
                  [--samples N --seed S]
                                crack-free adaptive mesh from the coefficients that
                                remove the most error per triangle added (rd, the
@@ -49,7 +49,10 @@ commands:
                                fit moves the vertices to the least-squares fit of
                                the full surface (one sparse solve), closest then
                                matches the two surfaces both ways (three rounds,
-                               about a second in all on 300,000 faces); --metric surface
+                               about a second in all on 300,000 faces), levels
+                               does that once for each level's uniform mesh and
+                               looks the positions up (for the viewer and sweeps:
+                               re-extraction as fast as surface); --metric surface
                                weighs importance by area on the surface, not on
                                the base domain; --remesh as
                                for analyze (its distance reported apart)

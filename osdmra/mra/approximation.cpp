@@ -26,7 +26,57 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
   full_.F = h.faces(h.levels());
   full_.V = positions(fullControls_, &full_.N);
-  if (options.placement == Placement::Closest) fullBvh_ = std::make_unique<TriangleBvh>(full_);
+  if (options.placement == Placement::Closest || options.placement == Placement::Levels)
+    fullBvh_ = std::make_unique<TriangleBvh>(full_);
+  levelFits_.resize(d.levels);
+  levelOnce_ = std::make_unique<std::once_flag[]>(static_cast<std::size_t>(d.levels));
+}
+
+void Approximator::prepare() const {
+  if (options_.placement == Placement::Levels)
+    for (int j = 0; j < d_.levels; ++j) levelFit(j);
+}
+
+const Points& Approximator::levelFit(int j) const {
+  std::call_once(levelOnce_[j], [&] {
+    // M^j is the level of detail that keeps every coefficient of the levels below j.
+    const Hierarchy& h = *bank_.hierarchy;
+    KeepMask keep(importance_.size());
+    for (std::size_t k = 0; k < keep.size(); ++k)
+      keep[k].assign(static_cast<std::size_t>(importance_[k].size()), static_cast<int>(k) < j);
+    Approximation a;
+    a.keep = std::move(keep);
+    a.lod = extractLod(h, a.keep);
+    a.mesh.F = a.lod.compactFaces;
+    a.mesh.V = positions(synthesize(bank_, truncate(d_, a.keep), d_.levels), nullptr)(
+        a.lod.vertices, Eigen::all);
+    const SparseMatrix L = lodInterpolation(h, a.lod);
+    const Points fit = fitPositions(L, full_.V, a.mesh.V, options_.fit);
+    const Points closest = fitToClosestPoints(L, a.mesh.F, full_, *fullBvh_, fit, options_.fit);
+    levelFits_[j] = Points::Zero(h.numVertices(j), 3);
+    for (std::size_t i = 0; i < a.lod.vertices.size(); ++i)
+      levelFits_[j].row(a.lod.vertices[i]) = closest.row(static_cast<Eigen::Index>(i));
+  });
+  return levelFits_[j];
+}
+
+void Approximator::placeByLevels(Approximation& a) const {
+  // Each vertex at the finest level among its faces (a green half's midpoint, which
+  // first exists one level finer than the triangle halved, at its own level).
+  const Hierarchy& h = *bank_.hierarchy;
+  const int J = h.levels();
+  std::vector<int> level(a.lod.vertices.size(), 0);
+  for (Eigen::Index f = 0; f < a.lod.compactFaces.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      int& l = level[a.lod.compactFaces(f, c)];
+      l = std::max(l, a.lod.faceLevel[f]);
+    }
+  for (std::size_t i = 0; i < level.size(); ++i) {
+    const int v = a.lod.vertices[i];
+    int l = level[i];
+    while (v >= h.numVertices(l)) ++l;
+    a.mesh.V.row(static_cast<Eigen::Index>(i)) = l >= J ? full_.V.row(v) : levelFit(l).row(v);
+  }
 }
 
 Points Approximator::positions(const Points& controls, Points* normals) const {
@@ -72,7 +122,9 @@ Approximation Approximator::make(const KeepMask& selection) const {
     for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
   }
   a.mesh.F = a.lod.compactFaces;
-  if (options_.placement != Placement::Surface) {
+  if (options_.placement == Placement::Levels) {
+    placeByLevels(a);
+  } else if (options_.placement != Placement::Surface) {
     const SparseMatrix L = lodInterpolation(*bank_.hierarchy, a.lod);
     a.mesh.V = fitPositions(L, full_.V, a.mesh.V, options_.fit);
     if (options_.placement == Placement::Closest)

@@ -6,8 +6,8 @@
 #include <string>
 #include <unordered_map>
 
-#include "osdmra/base/error.h"
 #include "osdmra/base/detail/key_hash.h"
+#include "osdmra/base/error.h"
 
 namespace osdmra {
 

@@ -15,14 +15,18 @@
 namespace osdmra {
 
 const char* placementName(Placement p) {
-  return p == Placement::Closest ? "closest" : p == Placement::Fit ? "fit" : "surface";
+  return p == Placement::Closest  ? "closest"
+         : p == Placement::Fit    ? "fit"
+         : p == Placement::Levels ? "levels"
+                                  : "surface";
 }
 
 Placement parsePlacement(const std::string& name) {
   if (name == "surface") return Placement::Surface;
   if (name == "fit") return Placement::Fit;
   if (name == "closest") return Placement::Closest;
-  throw Error("placement must be surface, fit or closest, got '" + name + "'");
+  if (name == "levels") return Placement::Levels;
+  throw Error("placement must be surface, fit, closest or levels, got '" + name + "'");
 }
 
 namespace {

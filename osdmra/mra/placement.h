@@ -42,9 +42,13 @@ enum class Placement {
   Surface,  ///< on the truncated surface (the paper; default)
   Fit,      ///< least-squares fit of the full-resolution surface (see above)
   Closest,  ///< Fit, then fitted to the full surface's closest points (see above)
+  /// Closest, made once per level of the hierarchy on its uniform mesh M^j and looked
+  /// up at extraction: each vertex of a level of detail takes its position on the finest
+  /// level among the faces around it, so an extraction costs what Surface's does.
+  Levels,
 };
 const char* placementName(Placement p);
-/// Parses "surface", "fit" or "closest"; throws Error otherwise.
+/// Parses "surface", "fit", "closest" or "levels"; throws Error otherwise.
 Placement parsePlacement(const std::string& name);
 
 /// Row v (a vertex of M^J): the weights, over the compact vertices of `lod`

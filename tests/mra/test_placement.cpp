@@ -188,3 +188,38 @@ TEST(Placement, ClosestTurnsNoFaceOverAndComesCloser) {
     }
   }
 }
+
+// Levels looks up, per vertex, the closest fit of the finest level's uniform mesh
+// around it. Exact where the level of detail is a uniform level: the base mesh (no
+// coefficient kept) is placed as Closest places it, and the whole hierarchy (every
+// coefficient) is the full surface itself; between, the faces are Surface's.
+TEST(Placement, LevelsIsClosestOnUniformLevels) {
+  for (Scheme s : {Scheme::Linear, Scheme::Loop}) {
+    SCOPED_TRACE(schemeName(s));
+    const TriMesh base = shapes::byName("icosahedron");
+    const TriMesh surface = subdivide(base, 3, s, 0.02, 5);
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
+    const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
+    const Decomposition d = analyze(bank, surface.V);
+    ApproximationOptions closestOptions, levelsOptions;
+    closestOptions.placement = Placement::Closest;
+    levelsOptions.placement = Placement::Levels;
+    const Approximator closest(bank, d, closestOptions), levels(bank, d, levelsOptions),
+        plain(bank, d);
+    levels.prepare();
+    const Approximation b0 = closest.keepCount(0), b1 = levels.keepCount(0);
+    ASSERT_EQ(b0.mesh.F, b1.mesh.F);
+    EXPECT_LT((b0.mesh.V - b1.mesh.V).cwiseAbs().maxCoeff(), 1e-12);
+    const Approximation all = levels.keepFraction(1.0);
+    const TriMesh& full = levels.fullResolution();
+    ASSERT_EQ(all.mesh.V.rows(), full.V.rows());
+    EXPECT_EQ(all.mesh.V, full.V);
+    for (long long budget : {80LL, 300LL, 900LL}) {
+      const Approximation x = plain.budget(budget), y = levels.budget(budget);
+      ASSERT_EQ(x.mesh.F, y.mesh.F) << budget;
+      ASSERT_TRUE(y.mesh.V.allFinite());
+    }
+  }
+  EXPECT_EQ(parsePlacement("levels"), Placement::Levels);
+  EXPECT_STREQ(placementName(Placement::Levels), "levels");
+}
