@@ -43,8 +43,8 @@ enum class Placement {
   Fit,      ///< least-squares fit of the full-resolution surface (see above)
   Closest,  ///< Fit, then fitted to the full surface's closest points (see above)
   /// Closest, made once per level of the hierarchy on its uniform mesh M^j and looked
-  /// up at extraction: each vertex of a level of detail takes its position on the finest
-  /// level among the faces around it, so an extraction costs what Surface's does.
+  /// up at extraction: each vertex of a level of detail takes the mean, over its faces,
+  /// of its positions in their levels' fits, so an extraction costs what Surface's does.
   Levels,
 };
 const char* placementName(Placement p);
