@@ -49,8 +49,13 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   osdmra::AnalysisOptions options;
   options.scheme = request.scheme;
   options.wavelets.rings = request.rings;
+  options.approximation.placement = request.placement;
   a->surface =
       std::make_unique<osdmra::AnalysedSurface>(input.mesh, options, request.path, progress);
+  if (request.placement == osdmra::Placement::Levels) {
+    report("fitting every level", 0);
+    a->approx().prepare();
+  }
   const osdmra::TriMesh& full = a->approx().fullResolution();
   a->fullNormals = full.N.rows() == full.V.rows() ? full.N : osdmra::vertexNormals(full);
   a->diagonal = osdmra::boundingBoxDiagonal(full.V);

@@ -30,11 +30,14 @@ struct AnalysisRequest {
   std::string path;
   osdmra::Scheme scheme = osdmra::Scheme::Loop;
   int rings = 1;
+  /// Where the level of detail's vertices go (placement.h); `levels` fits every level
+  /// once, in the analysis, so that the slider stays as fast as with `surface`.
+  osdmra::Placement placement = osdmra::Placement::Surface;
   /// Remeshing first, for a mesh without subdivision connectivity (osdmra remesh).
   osdmra::InputOptions input;
   bool operator==(const AnalysisRequest& o) const {
     const osdmra::RemeshOptions &a = input.remeshing, &b = o.input.remeshing;
-    return path == o.path && scheme == o.scheme && rings == o.rings &&
+    return path == o.path && scheme == o.scheme && rings == o.rings && placement == o.placement &&
            input.remesh == o.input.remesh &&
            (!input.remesh || (a.baseFaces == b.baseFaces && a.levels == b.levels &&
                               a.featureAngle == b.featureAngle));

@@ -17,6 +17,10 @@ const char* const kUsage =
     "  --epsilon E         keep coefficients of importance >= E instead of a budget\n"
     "  --scheme S          loop (default) or linear (polyhedral)\n"
     "  --rings R           quasi-wavelet rings, 0..4 (default 1)\n"
+    "  --placement P       surface (default), fit, closest or levels (fitted once per\n"
+    "                      level during the analysis: as fast to re-extract as surface);\n"
+    "                      the fitted ones move vertices off the surface to bring the\n"
+    "                      faces closer, so --color error (a vertex's distance) is warmer\n"
     "  --remesh            MESH has no subdivision connectivity: remesh it first\n"
     "                      (osdmra remesh) with --base-faces N (default 300),\n"
     "                      --levels J (default 5) and --feature-angle A (default 70);\n"
@@ -73,6 +77,7 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   o.selection.budget = args.integer("budget", o.selection.budget, 1, 1LL << 40);
   o.request.scheme = osdmra::parseScheme(args.get("scheme", "loop"));
   o.request.rings = static_cast<int>(args.integer("rings", o.request.rings, 0, 4));
+  o.request.placement = osdmra::parsePlacement(args.get("placement", "surface"));
   osdmra::InputOptions& in = o.request.input;
   in.remesh = args.has("remesh");
   in.remeshing.baseFaces =
@@ -126,7 +131,7 @@ void parseHeadless(const osdmra::cli::Args& args, Options& o) {
 Options parseOptions(const std::vector<std::string>& argv) {
   const osdmra::cli::Args args(
       "", argv,
-      {"budget", "epsilon", "scheme", "rings", "base-faces", "levels", "feature-angle",
+      {"budget", "epsilon", "scheme", "rings", "placement", "base-faces", "levels", "feature-angle",
        "min-component-faces", "view", "color", "error-scale", "layout", "tess", "smooth-level",
        "screenshot", "size", "bench-slider"},
       {"remesh", "wireframe", "smooth", "json", "no-pane-cache", "help", "h"},

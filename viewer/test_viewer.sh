@@ -31,6 +31,14 @@ step "$viewer" "$mesh" --budget 4054 --smooth --tess 2 --layout lod --screenshot
 step "$viewer" "$mesh" --budget 2000 --scheme linear --color level --wireframe --view iso \
   --screenshot "$out/linear-level.png" --size 800x400
 
+# Fitted once per level (--placement levels); an unknown placement is refused.
+step "$viewer" "$mesh" --budget 2000 --scheme linear --placement levels \
+  --screenshot "$out/levels.png" --size 800x400
+if "$viewer" "$mesh" --placement bogus --screenshot "$out/bogus.png" 2>"$out/bogus.err"; then
+  echo "FAIL: --placement bogus accepted"; exit 1
+fi
+grep -q 'placement must be' "$out/bogus.err" || { echo "FAIL: no placement message"; exit 1; }
+
 # Through the remesher (--remesh): the head is remeshed over its own new base.
 step "$viewer" "$mesh" --remesh --base-faces 200 --levels 3 --budget 3000 \
   --screenshot "$out/remesh.png" --size 800x400 >"$out/remesh.txt"
@@ -41,7 +49,7 @@ step "$viewer" "$mesh" --bench-slider 3 --size 400x200 --json >"$out/bench.json"
 grep -q '"steps": 4,' "$out/bench.json" || { echo "FAIL: bench-slider output"; exit 1; }
 grep -q '"frame_ms": {"median": ' "$out/bench.json" || { echo "FAIL: no frame times"; exit 1; }
 
-for image in budget-500 budget-16098 smooth linear-level remesh; do
+for image in budget-500 budget-16098 smooth linear-level levels remesh; do
   step "$check" coverage "$out/$image.png" 0.10 0.90
 done
 # Only the right (level of detail) pane may differ; 500 triangles against 16,098
