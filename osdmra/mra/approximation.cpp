@@ -72,6 +72,7 @@ void Approximator::placeByLevels(Approximation& a) const {
   };
   const Eigen::Index n = static_cast<Eigen::Index>(a.lod.vertices.size());
   Points sum = Points::Zero(n, 3);
+  a.mesh.V.resize(n, 3);
   std::vector<int> count(n, 0), lowest(n, J + 1), highest(n, -1);
   for (Eigen::Index f = 0; f < a.lod.compactFaces.rows(); ++f)
     for (int c = 0; c < 3; ++c) {
@@ -113,6 +114,13 @@ Approximation Approximator::make(const KeepMask& selection) const {
   a.keep = options_.saturate ? saturate(*bank_.hierarchy, selection) : selection;
   a.kept = countKept(a.keep);
   a.lod = extractLod(*bank_.hierarchy, a.keep);
+  a.mesh.F = a.lod.compactFaces;
+  // Levels looks its positions up: the truncated surface is needed only for Loop's
+  // normals.
+  if (options_.placement == Placement::Levels && !limit_) {
+    placeByLevels(a);
+    return a;
+  }
   const Points controls = synthesize(bank_, truncate(d_, a.keep), d_.levels);
   // Only the LOD's vertices are evaluated: rows of the limit stencils (or of the
   // controls themselves for the polyhedral scheme).
@@ -130,7 +138,6 @@ Approximation Approximator::make(const KeepMask& selection) const {
   } else {
     for (int i = 0; i < n; ++i) a.mesh.V.row(i) = controls.row(a.lod.vertices[i]);
   }
-  a.mesh.F = a.lod.compactFaces;
   if (options_.placement == Placement::Levels) {
     placeByLevels(a);
   } else if (options_.placement != Placement::Surface) {
