@@ -44,18 +44,16 @@ const Points& Approximator::levelFit(int j) const {
     KeepMask keep(importance_.size());
     for (std::size_t k = 0; k < keep.size(); ++k)
       keep[k].assign(static_cast<std::size_t>(importance_[k].size()), static_cast<int>(k) < j);
-    Approximation a;
-    a.keep = std::move(keep);
-    a.lod = extractLod(h, a.keep);
-    a.mesh.F = a.lod.compactFaces;
-    a.mesh.V = positions(synthesize(bank_, truncate(d_, a.keep), d_.levels), nullptr)(
-        a.lod.vertices, Eigen::all);
-    const SparseMatrix L = lodInterpolation(h, a.lod);
-    const Points fit = fitPositions(L, full_.V, a.mesh.V, options_.fit);
-    const Points closest = fitToClosestPoints(L, a.mesh.F, full_, *fullBvh_, fit, options_.fit);
+    const LodMesh lod = extractLod(h, keep);
+    const Points start = positions(synthesize(bank_, truncate(d_, keep), d_.levels), nullptr)(
+        lod.vertices, Eigen::all);
+    const SparseMatrix L = lodInterpolation(h, lod);
+    const Points fit = fitPositions(L, full_.V, start, options_.fit);
+    const Points closest =
+        fitToClosestPoints(L, lod.compactFaces, full_, *fullBvh_, fit, options_.fit);
     levelFits_[j] = Points::Zero(h.numVertices(j), 3);
-    for (std::size_t i = 0; i < a.lod.vertices.size(); ++i)
-      levelFits_[j].row(a.lod.vertices[i]) = closest.row(static_cast<Eigen::Index>(i));
+    for (std::size_t i = 0; i < lod.vertices.size(); ++i)
+      levelFits_[j].row(lod.vertices[i]) = closest.row(static_cast<Eigen::Index>(i));
   });
   return levelFits_[j];
 }

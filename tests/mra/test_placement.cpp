@@ -33,6 +33,24 @@ Points gather(const Points& V, const std::vector<int>& rows) {
   return out;
 }
 
+// A rough subdivided icosahedron analysed with quasi-wavelets: what the approximator
+// tests below place levels of detail of. Holds the hierarchy its filter bank points
+// to, so it is neither copied nor moved.
+struct RoughIcosahedron {
+  TriMesh base, surface;
+  Hierarchy h;
+  FilterBank bank;
+  Decomposition d;
+  RoughIcosahedron(Scheme s, int levels, double roughness, unsigned seed)
+      : base(shapes::byName("icosahedron")),
+        surface(subdivide(base, levels, s, roughness, seed)),
+        h(base.F, static_cast<int>(base.V.rows()), levels),
+        bank(makeFilterBank(h, s, {WaveletKind::Quasi, 1})),
+        d(analyze(bank, surface.V)) {}
+  RoughIcosahedron(const RoughIcosahedron&) = delete;
+  RoughIcosahedron& operator=(const RoughIcosahedron&) = delete;
+};
+
 }  // namespace
 
 // Rows are barycentric (non-negative, sum 1), the mesh's own vertices interpolate
@@ -91,11 +109,10 @@ TEST(Placement, FitRecoversRepresentableTargetsAndLowersTheResidual) {
 TEST(Placement, FitLowersTheApproximationsResidual) {
   for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
     SCOPED_TRACE(schemeName(s));
-    const TriMesh base = shapes::byName("icosahedron");
-    const TriMesh surface = subdivide(base, 4, s, 0.04, 21);
-    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
-    const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
-    const Decomposition d = analyze(bank, surface.V);
+    const RoughIcosahedron shape(s, 4, 0.04, 21);
+    const Hierarchy& h = shape.h;
+    const FilterBank& bank = shape.bank;
+    const Decomposition& d = shape.d;
     const Approximator onSurface(bank, d);
     ApproximationOptions o;
     o.placement = Placement::Fit;
@@ -147,11 +164,10 @@ TEST(Placement, ClosestTurnsNoFaceOverAndComesCloser) {
   for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
     for (double roughness : {0.01, 0.04}) {
       SCOPED_TRACE(std::string(schemeName(s)) + " " + std::to_string(roughness));
-      const TriMesh base = shapes::byName("icosahedron");
-      const TriMesh surface = subdivide(base, 4, s, roughness, 21);
-      const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 4);
-      const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
-      const Decomposition d = analyze(bank, surface.V);
+      const RoughIcosahedron shape(s, 4, roughness, 21);
+      const Hierarchy& h = shape.h;
+      const FilterBank& bank = shape.bank;
+      const Decomposition& d = shape.d;
       ApproximationOptions fit, closest;
       fit.placement = Placement::Fit;
       closest.placement = Placement::Closest;
@@ -196,11 +212,9 @@ TEST(Placement, ClosestTurnsNoFaceOverAndComesCloser) {
 TEST(Placement, LevelsIsClosestOnUniformLevels) {
   for (Scheme s : {Scheme::Linear, Scheme::Loop}) {
     SCOPED_TRACE(schemeName(s));
-    const TriMesh base = shapes::byName("icosahedron");
-    const TriMesh surface = subdivide(base, 3, s, 0.02, 5);
-    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
-    const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
-    const Decomposition d = analyze(bank, surface.V);
+    const RoughIcosahedron shape(s, 3, 0.02, 5);
+    const FilterBank& bank = shape.bank;
+    const Decomposition& d = shape.d;
     ApproximationOptions closestOptions, levelsOptions;
     closestOptions.placement = Placement::Closest;
     levelsOptions.placement = Placement::Levels;
