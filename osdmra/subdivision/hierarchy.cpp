@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -78,8 +80,42 @@ struct RunWriterArray {
   RunWriter operator[](int i) const { return RunWriter{runs, i}; }
 };
 
+// Sorts each (short) row of a compressed row-major matrix by column in place, summing
+// repeated columns in the order they were written (as setFromTriplets sums them).
+void sortRowsSummingRepeats(SparseMatrix& P) {
+  int* outer = P.outerIndexPtr();
+  int* col = P.innerIndexPtr();
+  double* value = P.valuePtr();
+  int nnz = 0;
+  for (Eigen::Index r = 0; r < P.outerSize(); ++r) {
+    const int begin = outer[r], end = outer[r + 1];
+    for (int i = begin + 1; i < end; ++i) {  // stable insertion sort: short rows
+      const int c = col[i];
+      const double w = value[i];
+      int k = i;
+      for (; k > begin && col[k - 1] > c; --k) {
+        col[k] = col[k - 1];
+        value[k] = value[k - 1];
+      }
+      col[k] = c;
+      value[k] = w;
+    }
+    outer[r] = nnz;
+    for (int k = begin; k < end; ++k) {
+      if (k > begin && col[k] == col[k - 1]) {
+        value[nnz - 1] += value[k];
+        continue;
+      }
+      col[nnz] = col[k];
+      value[nnz++] = value[k];
+    }
+  }
+  outer[P.outerSize()] = nnz;
+  P.data().resize(nnz);
+}
+
 // The compressed row-major matrix of `runs`, each row's entries sorted by column and
-// repeated columns summed in the order they came (as setFromTriplets sums them).
+// repeated columns summed in the order they came.
 SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
   const int count = static_cast<int>(runs.row.size()), total = static_cast<int>(runs.col.size());
   const auto end = [&](int b) { return b + 1 < count ? runs.start[b + 1] : total; };
@@ -97,47 +133,32 @@ SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
       P.innerIndexPtr()[at] = runs.col[k];
       P.valuePtr()[at] = runs.weight[k];
     }
-  // Sort each (short) row by column, summing repeats in place.
-  int nnz = 0;
-  std::vector<std::pair<int, double>> row;
-  for (int r = 0; r < rows; ++r) {
-    row.clear();
-    for (int k = outer[r]; k < outer[r + 1]; ++k)
-      row.emplace_back(P.innerIndexPtr()[k], P.valuePtr()[k]);
-    for (std::size_t i = 1; i < row.size(); ++i) {  // stable insertion sort: short rows
-      const std::pair<int, double> x = row[i];
-      std::size_t k = i;
-      for (; k > 0 && row[k - 1].first > x.first; --k) row[k] = row[k - 1];
-      row[k] = x;
-    }
-    outer[r] = nnz;
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      if (k > 0 && row[k].first == row[k - 1].first) {
-        P.valuePtr()[nnz - 1] += row[k].second;
-        continue;
-      }
-      P.innerIndexPtr()[nnz] = row[k].first;
-      P.valuePtr()[nnz++] = row[k].second;
-    }
-  }
-  outer[rows] = nnz;
-  P.data().resize(nnz);
+  sortRowsSummingRepeats(P);
   return P;
 }
+
+// One level's edges and, per face, its edges: face f's edge i joins its corners i and
+// i + 1, as in OpenSubdiv's Vtr levels.
+using Edges = std::vector<std::array<int, 2>>;
+using FaceEdges = std::vector<std::array<int, 3>>;
 
 }  // namespace
 
 struct Hierarchy::Impl {
   std::vector<Faces> faces;
   std::vector<int> numVertices;
-  std::vector<std::vector<std::array<int, 2>>> edges;  // per level: OpenSubdiv edges
-  std::vector<SparseMatrix> P[2];                      // [Loop, Linear] per level
+  std::vector<Edges> edges;          // per level below the finest: OpenSubdiv's edges
+  std::vector<FaceEdges> faceEdges;  // manifold bases, until Loop's matrices are written
+  std::vector<SparseMatrix> P[2];    // [Loop, Linear] per level
   // The refinement matrices are extracted on first use (refinement()), and the refiner
   // freed then: a decoder needs the faces and edges at once and the matrices only on
   // the thread that builds its filter bank.
   std::optional<Scheme> only;
+  // Kept for a non-manifold base only, whose Loop matrices come from PrimvarRefiner.
   std::unique_ptr<Far::TopologyRefiner> refiner;
   mutable std::once_flag matricesOnce;
+  void splitLevels(const Far::TopologyLevel& base, int levels);
+  void refineWithOpenSubdiv(std::unique_ptr<Far::TopologyRefiner> R, int levels);
   void extractMatrices();
   // Connectivity is built on first use: analysis never walks the finest level.
   mutable std::vector<std::unique_ptr<Connectivity>> conn;
@@ -184,6 +205,136 @@ SparseMatrix extractLoopRefinement(const Far::TopologyRefiner& R, int j) {
   return fromRuns(rows, cols, runs);
 }
 
+// Loop's vertex mask on a vertex of `valence` faces by OpenSubdiv's smooth rule
+// (sdc/loopScheme.h, assignSmoothMaskForVertex), evaluated in the same order, so the
+// weights are the same doubles: {edge weight, vertex weight}.
+std::array<double, 2> smoothVertexWeights(int valence) {
+  if (valence == 6) return {0.0625, 0.625};
+  const double d = valence, inv = 1.0 / d;
+  const double beta = 0.25 * std::cos(M_PI * 2.0 * inv) + 0.375;
+  const double e = (0.625 - beta * beta) * inv;
+  return {e, 1.0 - e * d};
+}
+
+// Level j+1's faces, edges and face edges from level j's, numbered as OpenSubdiv's
+// uniform triangle split numbers them (vtr/refinement.cpp, populateParentChildIndices;
+// vtr/triRefinement.cpp): child vertices of vertices first (v), then of edges (n + e);
+// face f's children 4f .. 4f + 3; child edges of faces first (3f + i, the inner edge
+// across corner i), then of edges (3F + 2e + k, from the midpoint to end k). The test
+// Hierarchy.OwnSplitIsOpenSubdivs holds it to OpenSubdiv's refiner, level by level.
+void splitLevel(int n, const Faces& F, const Edges& E, const FaceEdges& FE, Faces& childF,
+                Edges* childE, FaceEdges* childFE) {
+  const int numFaces = static_cast<int>(F.rows()), numEdges = static_cast<int>(E.size());
+  childF.resize(4 * static_cast<Eigen::Index>(numFaces), 3);
+  for (int f = 0; f < numFaces; ++f) {
+    const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
+    const int m0 = n + FE[f][0], m1 = n + FE[f][1], m2 = n + FE[f][2];
+    childF.row(4 * f) << v0, m0, m2;
+    childF.row(4 * f + 1) << m0, v1, m1;
+    childF.row(4 * f + 2) << m2, m1, v2;
+    childF.row(4 * f + 3) << m1, m2, m0;
+  }
+  if (!childE) return;
+  const int edgeBase = 3 * numFaces;
+  childE->resize(static_cast<std::size_t>(edgeBase) + 2 * static_cast<std::size_t>(numEdges));
+  childFE->resize(4 * static_cast<std::size_t>(numFaces));
+  Edges& cE = *childE;
+  FaceEdges& cFE = *childFE;
+  for (int f = 0; f < numFaces; ++f) {
+    const int m0 = n + FE[f][0], m1 = n + FE[f][1], m2 = n + FE[f][2];
+    cE[3 * f] = {m0, m2};
+    cE[3 * f + 1] = {m1, m0};
+    cE[3 * f + 2] = {m2, m1};
+    // Half k of parent edge i, k counted from the face's corner i along the face.
+    int half[3][2];
+    for (int i = 0; i < 3; ++i) {
+      const std::array<int, 2>& ends = E[FE[f][i]];
+      const int reversed = ends[0] != ends[1] && F(f, i) != ends[0];
+      half[i][0] = edgeBase + 2 * FE[f][i] + reversed;
+      half[i][1] = edgeBase + 2 * FE[f][i] + 1 - reversed;
+    }
+    cFE[4 * f] = {half[0][0], 3 * f, half[2][1]};
+    cFE[4 * f + 1] = {half[0][1], half[1][0], 3 * f + 1};
+    cFE[4 * f + 2] = {3 * f + 2, half[1][1], half[2][0]};
+    cFE[4 * f + 3] = {3 * f + 2, 3 * f, 3 * f + 1};
+  }
+  for (int e = 0; e < numEdges; ++e) {
+    cE[edgeBase + 2 * e] = {n + e, E[e][0]};
+    cE[edgeBase + 2 * e + 1] = {n + e, E[e][1]};
+  }
+}
+
+// Loop's P^{j+1} of a manifold level, written from its topology with the masks of
+// OpenSubdiv's Loop scheme (sdc/loopScheme.h) for the rules such a level has with
+// infinitely sharp boundary edges: interior vertices Loop's beta (smooth), boundary
+// vertices 3/4 and 1/8 on their two boundary neighbours (crease; OpenSubdiv also
+// stores the other neighbours, with 0), interior edges 3/8, 3/8, 1/8, 1/8, boundary
+// edges 1/2, 1/2. Each row's columns are distinct, so sorting them gives OpenSubdiv's
+// matrix bit for bit (Hierarchy.LoopRefinementIsOpenSubdivsBitForBit) at a fraction
+// of the cost of driving PrimvarRefiner.
+SparseMatrix loopRefinementFromTopology(int n, const Faces& F, const Edges& E,
+                                        const FaceEdges& FE) {
+  const int numEdges = static_cast<int>(E.size());
+  std::vector<std::array<int, 2>> opposite(numEdges, {-1, -1});
+  for (std::size_t f = 0; f < FE.size(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      std::array<int, 2>& o = opposite[FE[f][i]];
+      o[o[0] < 0 ? 0 : 1] = F(static_cast<Eigen::Index>(f), (i + 2) % 3);
+    }
+  std::vector<int> degree(n, 0), boundaryEdges(n, 0);
+  for (int e = 0; e < numEdges; ++e)
+    for (int end : E[e]) {
+      ++degree[end];
+      if (opposite[e][1] < 0) ++boundaryEdges[end];
+    }
+  SparseMatrix P(n + numEdges, n);
+  int* outer = P.outerIndexPtr();
+  outer[0] = 0;
+  for (int v = 0; v < n; ++v) outer[v + 1] = outer[v] + 1 + degree[v];
+  for (int e = 0; e < numEdges; ++e) outer[n + e + 1] = outer[n + e] + (opposite[e][1] < 0 ? 2 : 4);
+  P.resizeNonZeros(outer[n + numEdges]);
+  int* col = P.innerIndexPtr();
+  double* value = P.valuePtr();
+  std::vector<int> fill(outer, outer + n);
+  std::vector<double> neighbourWeight(n);
+  for (int v = 0; v < n; ++v) {  // the vertex itself
+    const std::array<double, 2> w =
+        boundaryEdges[v] ? std::array<double, 2>{0.125, 0.75} : smoothVertexWeights(degree[v]);
+    neighbourWeight[v] = w[0];
+    col[fill[v]] = v;
+    value[fill[v]++] = w[1];
+  }
+  for (int e = 0; e < numEdges; ++e) {  // each edge's other end, in both vertices' rows
+    const bool boundary = opposite[e][1] < 0;
+    for (int k = 0; k < 2; ++k) {
+      const int v = E[e][k];
+      col[fill[v]] = E[e][1 - k];
+      value[fill[v]++] = boundaryEdges[v] && !boundary ? 0.0 : neighbourWeight[v];
+    }
+    int k = outer[n + e];
+    const double endWeight = boundary ? 0.5 : 0.375;
+    for (int end : E[e]) {
+      col[k] = end;
+      value[k++] = endWeight;
+    }
+    if (!boundary)
+      for (int o : opposite[e]) {
+        col[k] = o;
+        value[k++] = 0.125;
+      }
+  }
+  sortRowsSummingRepeats(P);
+  return P;
+}
+
+bool isManifold(const Far::TopologyLevel& L) {
+  for (int v = 0; v < L.GetNumVertices(); ++v)
+    if (L.IsVertexNonManifold(v)) return false;
+  for (int e = 0; e < L.GetNumEdges(); ++e)
+    if (L.IsEdgeNonManifold(e)) return false;
+  return true;
+}
+
 // P^{j+1} of the polyhedral scheme, written from the edges: vertex v of level j keeps
 // its position (row v) and edge e's new vertex n + e is the midpoint of its ends, as
 // OpenSubdiv's varying interpolation gives (the ordering the constructor checks), at a
@@ -220,27 +371,68 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
   if (levels < 0 || levels > 15)
     throw Error("levels must be in 0..15, got " + std::to_string(levels));
   if (baseFaces.rows() == 0) throw Error("the base mesh has no faces");
-  // The refiner lives until the refinement matrices are extracted (refinement()):
-  // everything else osdmra needs from it (faces, edges) is copied out here, which costs
-  // less memory than OpenSubdiv's full topology of every level.
   std::unique_ptr<Far::TopologyRefiner> refiner =
       createLoopRefiner(baseFaces, numBaseVertices, "the base mesh");
+  impl_->only = only;
+  if (isManifold(refiner->GetLevel(0)))
+    impl_->splitLevels(refiner->GetLevel(0), levels);
+  else
+    impl_->refineWithOpenSubdiv(std::move(refiner), levels);
+  impl_->conn.resize(levels + 1);
+  impl_->connOnce = std::vector<std::once_flag>(levels + 1);
+}
+
+// A manifold base is split by splitLevel, OpenSubdiv's numbering without its full
+// topology of every level: the faces, edges and face edges osdmra reads, in a fraction
+// of the time.
+void Hierarchy::Impl::splitLevels(const Far::TopologyLevel& L, int levels) {
+  Faces F(L.GetNumFaces(), 3);
+  FaceEdges FE(L.GetNumFaces());
+  for (int f = 0; f < L.GetNumFaces(); ++f) {
+    const auto fv = L.GetFaceVertices(f), fe = L.GetFaceEdges(f);
+    for (int i = 0; i < 3; ++i) {
+      F(f, i) = fv[i];
+      FE[f][i] = fe[i];
+    }
+  }
+  Edges E(L.GetNumEdges());
+  for (int e = 0; e < L.GetNumEdges(); ++e)
+    E[e] = {L.GetEdgeVertices(e)[0], L.GetEdgeVertices(e)[1]};
+  numVertices.push_back(L.GetNumVertices());
+  for (int j = 0; j < levels; ++j) {
+    Faces childF;
+    Edges childE;
+    FaceEdges childFE;
+    const bool last = j + 1 == levels;  // its edges are never read
+    splitLevel(numVertices[j], F, E, FE, childF, last ? nullptr : &childE,
+               last ? nullptr : &childFE);
+    numVertices.push_back(numVertices[j] + static_cast<int>(E.size()));
+    faces.push_back(std::move(F));
+    edges.push_back(std::move(E));
+    faceEdges.push_back(std::move(FE));
+    F = std::move(childF);
+    E = std::move(childE);
+    FE = std::move(childFE);
+  }
+  faces.push_back(std::move(F));
+}
+
+// A non-manifold base goes through OpenSubdiv's refiner, whose index conventions (the
+// file comment's) are checked here; PrimvarRefiner gives its Loop matrices.
+void Hierarchy::Impl::refineWithOpenSubdiv(std::unique_ptr<Far::TopologyRefiner> R, int levels) {
   if (levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(levels);
     // The last level needs its faces only: its edges and adjacency are never read.
     uniform.fullTopologyInLastLevel = false;
-    refiner->RefineUniform(uniform);
+    R->RefineUniform(uniform);
   }
-
-  const Far::TopologyRefiner& R = *refiner;
   for (int j = 0; j <= levels; ++j) {
-    const Far::TopologyLevel& L = R.GetLevel(j);
+    const Far::TopologyLevel& L = R->GetLevel(j);
     Faces F(L.GetNumFaces(), 3);
     for (int f = 0; f < L.GetNumFaces(); ++f) {
       auto fv = L.GetFaceVertices(f);
       for (int i = 0; i < 3; ++i) F(f, i) = fv[i];
     }
-    // Check the index conventions of the file comment against the refiner itself.
     if (j < levels) {
       const int n = L.GetNumVertices();
       for (int v = 0; v < n; ++v)
@@ -256,35 +448,40 @@ Hierarchy::Hierarchy(const Faces& baseFaces, int numBaseVertices, int levels,
           if (cf[i] != 4 * f + i)
             throw Error("OpenSubdiv child-face ordering unexpected at level " + std::to_string(j));
       }
-      std::vector<std::array<int, 2>> E(L.GetNumEdges());
+      Edges E(L.GetNumEdges());
       for (int e = 0; e < L.GetNumEdges(); ++e) {
         auto ev = L.GetEdgeVertices(e);
         E[e] = {ev[0], ev[1]};
       }
-      impl_->edges.push_back(std::move(E));
+      edges.push_back(std::move(E));
     }
-    impl_->numVertices.push_back(L.GetNumVertices());
-    impl_->faces.push_back(std::move(F));
+    numVertices.push_back(L.GetNumVertices());
+    faces.push_back(std::move(F));
   }
-  impl_->conn.resize(levels + 1);
-  impl_->connOnce = std::vector<std::once_flag>(levels + 1);
-  impl_->only = only;
-  // Only Loop's matrices need OpenSubdiv's interpolation (linearRefinement).
-  if (only != Scheme::Linear) impl_->refiner = std::move(refiner);
+  if (only != Scheme::Linear) refiner = std::move(R);  // linearRefinement needs none
 }
 
 void Hierarchy::Impl::extractMatrices() {
   const int J = static_cast<int>(faces.size()) - 1;
+  // Swapped into place: Eigen 3.4's SparseMatrix has no move constructor, and a copy
+  // of every level's matrix cost as much as writing it.
   std::vector<SparseMatrix> extracted[2];
-  for (Scheme s : {Scheme::Loop, Scheme::Linear})
-    for (int j = 0; j < J; ++j)
-      extracted[s == Scheme::Loop ? 0 : 1].push_back(
-          only && *only != s    ? SparseMatrix()
-          : s == Scheme::Linear ? linearRefinement(numVertices[j], edges[j])
-                                : extractLoopRefinement(*refiner, j));
-  P[0] = std::move(extracted[0]);
-  P[1] = std::move(extracted[1]);
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    std::vector<SparseMatrix>& out = extracted[s == Scheme::Loop ? 0 : 1];
+    out.resize(J);
+    for (int j = 0; j < J && (!only || *only == s); ++j) {
+      SparseMatrix Pj =
+          s == Scheme::Linear ? linearRefinement(numVertices[j], edges[j])
+          : refiner           ? extractLoopRefinement(*refiner, j)
+                    : loopRefinementFromTopology(numVertices[j], faces[j], edges[j], faceEdges[j]);
+      out[j].swap(Pj);
+    }
+  }
+  P[0].swap(extracted[0]);
+  P[1].swap(extracted[1]);
   refiner.reset();
+  faceEdges.clear();
+  faceEdges.shrink_to_fit();
 }
 
 Hierarchy::~Hierarchy() = default;

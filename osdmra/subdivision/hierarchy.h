@@ -1,7 +1,10 @@
 // Hierarchy: the base mesh M^0 and its J uniform 1-to-4 refinements M^1..M^J.
 //
 // This is the only module that talks to OpenSubdiv's Far::TopologyRefiner. It owns
-// the index conventions every other module relies on (checked when it is built):
+// the index conventions every other module relies on, which are OpenSubdiv's uniform
+// refinement's: a manifold base is split by osdmra itself in OpenSubdiv's numbering
+// (tests hold faces, edges and Loop matrices to the refiner's), a non-manifold one by
+// the refiner (the conventions checked when it is built):
 //   - old vertices of M^{j+1} come first: vertex v of M^j is vertex v of M^{j+1};
 //   - new vertex n_j + e of M^{j+1} is the midpoint of edge e of M^j, whose
 //     endpoints parentEdge() gives;

@@ -1,6 +1,9 @@
 // Hierarchy (hierarchy.h): level sizes, refinement rows, the index conventions
 // checked against the faces themselves, and Loop limit evaluation.
 #include <gtest/gtest.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <cmath>
 #include <map>
@@ -138,6 +141,133 @@ TEST(Hierarchy, RefinementRowsAreTheClosedFormRules) {
             EXPECT_NEAR(stored[col], value, 1e-15) << "row " << r << " column " << col;
           }
         }
+      }
+    }
+  }
+}
+
+namespace {
+
+// A primvar that records each row's weights, in the order PrimvarRefiner adds them.
+struct Recorded {
+  std::vector<std::pair<int, double>>* row;
+  void Clear() { row->clear(); }
+  void AddWithWeight(const Recorded& src, double w) { row->emplace_back(src.index, w); }
+  int index = -1;
+};
+
+// OpenSubdiv's refiner over `base` (boundary edges sharp, as the hierarchy's), refined
+// `levels` times with full topology.
+std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refinerOf(const TriMesh& base, int levels) {
+  namespace Far = OpenSubdiv::Far;
+  namespace Sdc = OpenSubdiv::Sdc;
+  std::vector<int> sizes(base.F.rows(), 3);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = static_cast<int>(base.V.rows());
+  desc.numFaces = static_cast<int>(base.F.rows());
+  desc.numVertsPerFace = sizes.data();
+  desc.vertIndicesPerFace = base.F.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  std::unique_ptr<Far::TopologyRefiner> R(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  R->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+  return R;
+}
+
+// OpenSubdiv's own Loop refinement matrices of `base` (PrimvarRefiner, boundary edges
+// sharp as in the hierarchy): per level, per row, (column, weight) in column order with
+// repeats summed in the order they came, as a compressed row would hold them.
+std::vector<std::vector<std::vector<std::pair<int, double>>>> primvarLoopRows(const TriMesh& base,
+                                                                              int levels) {
+  const auto R = refinerOf(base, levels);
+  std::vector<std::vector<std::vector<std::pair<int, double>>>> out;
+  for (int j = 0; j < levels; ++j) {
+    std::vector<std::vector<std::pair<int, double>>> rows(R->GetLevel(j + 1).GetNumVertices());
+    std::vector<Recorded> src(R->GetLevel(j).GetNumVertices()), dst(rows.size());
+    for (std::size_t v = 0; v < src.size(); ++v) src[v].index = static_cast<int>(v);
+    for (std::size_t r = 0; r < rows.size(); ++r) dst[r].row = &rows[r];
+    OpenSubdiv::Far::PrimvarRefinerReal<double>(*R).Interpolate(j + 1, src, dst);
+    for (auto& row : rows) {
+      std::stable_sort(row.begin(), row.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      std::vector<std::pair<int, double>> summed;
+      for (const auto& [c, w] : row)
+        if (!summed.empty() && summed.back().first == c)
+          summed.back().second += w;
+        else
+          summed.emplace_back(c, w);
+      row = std::move(summed);
+    }
+    out.push_back(std::move(rows));
+  }
+  return out;
+}
+
+// The shapes, and a non-manifold base (two tetrahedra sharing a vertex), which the
+// hierarchy hands to OpenSubdiv's refiner instead.
+std::vector<std::pair<std::string, TriMesh>> bases() {
+  std::vector<std::pair<std::string, TriMesh>> all = shapes::all();
+  const TriMesh t = shapes::tetrahedron();
+  TriMesh bowtie;
+  bowtie.V.resize(7, 3);
+  bowtie.V << t.V, t.V.bottomRows(3) * -1.0;
+  bowtie.F.resize(8, 3);
+  bowtie.F.topRows(4) = t.F;
+  for (int f = 0; f < 4; ++f)
+    for (int i = 0; i < 3; ++i) bowtie.F(4 + f, i) = t.F(f, 2 - i) == 0 ? 0 : t.F(f, 2 - i) + 3;
+  all.emplace_back("bowtie", bowtie);
+  return all;
+}
+
+}  // namespace
+
+// osdmra splits a manifold base itself (hierarchy.cpp, splitLevel) in OpenSubdiv's
+// numbering: every level's faces and every edge with its ends in order are the
+// refiner's, on closed shapes of every genus and open ones (and a non-manifold base's,
+// which the refiner splits).
+TEST(Hierarchy, OwnSplitIsOpenSubdivs) {
+  for (const auto& [name, base] : bases()) {
+    SCOPED_TRACE(name);
+    const int levels = 4;
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), levels);
+    const auto R = refinerOf(base, levels);
+    for (int j = 0; j <= levels; ++j) {
+      const OpenSubdiv::Far::TopologyLevel& L = R->GetLevel(j);
+      ASSERT_EQ(h.numVertices(j), L.GetNumVertices());
+      ASSERT_EQ(h.numFaces(j), L.GetNumFaces());
+      for (int f = 0; f < L.GetNumFaces(); ++f)
+        for (int i = 0; i < 3; ++i)
+          ASSERT_EQ(h.faces(j)(f, i), L.GetFaceVertices(f)[i]) << "level " << j << " face " << f;
+      if (j == levels) continue;
+      ASSERT_EQ(h.numVertices(j + 1) - h.numVertices(j), L.GetNumEdges());
+      for (int e = 0; e < L.GetNumEdges(); ++e) {
+        const std::array<int, 2> ends{L.GetEdgeVertices(e)[0], L.GetEdgeVertices(e)[1]};
+        ASSERT_EQ(h.parentEdge(j, e), ends) << "level " << j << " edge " << e;
+      }
+    }
+  }
+}
+
+// The Loop matrices are written from the rules (hierarchy.cpp), not by PrimvarRefiner:
+// they are OpenSubdiv's own, bit for bit and entry for entry (the explicit zeros of its
+// crease rule included), on closed shapes of every genus, open ones and low valences
+// (and a non-manifold base's, which PrimvarRefiner writes).
+TEST(Hierarchy, LoopRefinementIsOpenSubdivsBitForBit) {
+  for (const auto& [name, base] : bases()) {
+    SCOPED_TRACE(name);
+    const int levels = 3;
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), levels, Scheme::Loop);
+    const auto reference = primvarLoopRows(base, levels);
+    for (int j = 0; j < levels; ++j) {
+      const SparseMatrix& P = h.refinement(Scheme::Loop, j);
+      ASSERT_EQ(P.rows(), static_cast<Eigen::Index>(reference[j].size()));
+      for (Eigen::Index r = 0; r < P.rows(); ++r) {
+        std::vector<std::pair<int, double>> stored;
+        for (SparseMatrix::InnerIterator it(P, r); it; ++it)
+          stored.emplace_back(static_cast<int>(it.col()), it.value());
+        ASSERT_EQ(stored, reference[j][r]) << "level " << j << " row " << r;
       }
     }
   }
