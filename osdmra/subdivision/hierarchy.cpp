@@ -264,13 +264,54 @@ void splitLevel(int n, const Faces& F, const Edges& E, const FaceEdges& FE, Face
   }
 }
 
+// The vertex rows of Loop's P^{j+1} on a manifold level (outer already set): the
+// vertex and each neighbour with the weights of its rule. Written column by column,
+// which leaves every row's columns ascending (a transposition), with no sort: each
+// neighbour is listed by its edge into the neighbour's column bucket, and the buckets
+// are then read in column order.
+void writeVertexRows(int n, const Edges& E, const std::vector<std::array<int, 2>>& opposite,
+                     const std::vector<int>& degree, const std::vector<int>& boundaryEdges,
+                     SparseMatrix& P) {
+  const int* outer = P.outerIndexPtr();
+  // Column w's bucket lists (row, weight) for w itself and each neighbour's row: the
+  // pattern is symmetric, so bucket w has as many entries as row w.
+  std::vector<int> bucketRow(outer[n]), fill(outer, outer + n);
+  std::vector<double> bucketWeight(outer[n]), neighbourWeight(n);
+  for (int v = 0; v < n; ++v) {
+    const std::array<double, 2> w =
+        boundaryEdges[v] ? std::array<double, 2>{0.125, 0.75} : smoothVertexWeights(degree[v]);
+    neighbourWeight[v] = w[0];
+    bucketRow[fill[v]] = v;
+    bucketWeight[fill[v]++] = w[1];
+  }
+  for (std::size_t e = 0; e < E.size(); ++e) {
+    const bool boundary = opposite[e][1] < 0;
+    for (int k = 0; k < 2; ++k) {  // row E[e][k], column E[e][1 - k]
+      const int v = E[e][k], w = E[e][1 - k];
+      bucketRow[fill[w]] = v;
+      // A crease rule weights its boundary neighbours only; OpenSubdiv stores the rest, 0.
+      bucketWeight[fill[w]++] = boundaryEdges[v] && !boundary ? 0.0 : neighbourWeight[v];
+    }
+  }
+  std::copy(outer, outer + n, fill.begin());
+  int* col = P.innerIndexPtr();
+  double* value = P.valuePtr();
+  for (int w = 0; w < n; ++w)
+    for (int k = outer[w]; k < outer[w + 1]; ++k) {
+      const int v = bucketRow[k];
+      col[fill[v]] = w;
+      value[fill[v]++] = bucketWeight[k];
+    }
+}
+
 // Loop's P^{j+1} of a manifold level, written from its topology with the masks of
 // OpenSubdiv's Loop scheme (sdc/loopScheme.h) for the rules such a level has with
 // infinitely sharp boundary edges: interior vertices Loop's beta (smooth), boundary
 // vertices 3/4 and 1/8 on their two boundary neighbours (crease; OpenSubdiv also
 // stores the other neighbours, with 0), interior edges 3/8, 3/8, 1/8, 1/8, boundary
-// edges 1/2, 1/2. Each row's columns are distinct, so sorting them gives OpenSubdiv's
-// matrix bit for bit (Hierarchy.LoopRefinementIsOpenSubdivsBitForBit) at a fraction
+// edges 1/2, 1/2. A manifold level's edges join distinct pairs of vertices, so each
+// vertex row's columns are distinct and the rows written in column order are
+// OpenSubdiv's matrix bit for bit (Hierarchy.LoopRefinementIsOpenSubdivsBitForBit) at a fraction
 // of the cost of driving PrimvarRefiner.
 SparseMatrix loopRefinementFromTopology(int n, const Faces& F, const Edges& E,
                                         const FaceEdges& FE) {
@@ -287,43 +328,46 @@ SparseMatrix loopRefinementFromTopology(int n, const Faces& F, const Edges& E,
       ++degree[end];
       if (opposite[e][1] < 0) ++boundaryEdges[end];
     }
+  // An edge's row holds 4 columns (2 on a boundary; 3 where both faces have the same
+  // third corner, whose weights add up as OpenSubdiv's do).
+  const auto edgeRowSize = [&](int e) {
+    return opposite[e][1] < 0 ? 2 : opposite[e][0] == opposite[e][1] ? 3 : 4;
+  };
   SparseMatrix P(n + numEdges, n);
   int* outer = P.outerIndexPtr();
   outer[0] = 0;
   for (int v = 0; v < n; ++v) outer[v + 1] = outer[v] + 1 + degree[v];
-  for (int e = 0; e < numEdges; ++e) outer[n + e + 1] = outer[n + e] + (opposite[e][1] < 0 ? 2 : 4);
+  for (int e = 0; e < numEdges; ++e) outer[n + e + 1] = outer[n + e] + edgeRowSize(e);
   P.resizeNonZeros(outer[n + numEdges]);
+  writeVertexRows(n, E, opposite, degree, boundaryEdges, P);
   int* col = P.innerIndexPtr();
   double* value = P.valuePtr();
-  std::vector<int> fill(outer, outer + n);
-  std::vector<double> neighbourWeight(n);
-  for (int v = 0; v < n; ++v) {  // the vertex itself
-    const std::array<double, 2> w =
-        boundaryEdges[v] ? std::array<double, 2>{0.125, 0.75} : smoothVertexWeights(degree[v]);
-    neighbourWeight[v] = w[0];
-    col[fill[v]] = v;
-    value[fill[v]++] = w[1];
-  }
-  for (int e = 0; e < numEdges; ++e) {  // each edge's other end, in both vertices' rows
-    const bool boundary = opposite[e][1] < 0;
-    for (int k = 0; k < 2; ++k) {
-      const int v = E[e][k];
-      col[fill[v]] = E[e][1 - k];
-      value[fill[v]++] = boundaryEdges[v] && !boundary ? 0.0 : neighbourWeight[v];
-    }
+  for (int e = 0; e < numEdges; ++e) {
     int k = outer[n + e];
-    const double endWeight = boundary ? 0.5 : 0.375;
-    for (int end : E[e]) {
-      col[k] = end;
-      value[k++] = endWeight;
+    const auto put = [&](int c, double w) {
+      col[k] = c;
+      value[k++] = w;
+    };
+    const int a = std::min(E[e][0], E[e][1]), b = std::max(E[e][0], E[e][1]);
+    if (opposite[e][1] < 0) {
+      put(a, 0.5);
+      put(b, 0.5);
+      continue;
     }
-    if (!boundary)
-      for (int o : opposite[e]) {
-        col[k] = o;
-        value[k++] = 0.125;
-      }
+    const int c = std::min(opposite[e][0], opposite[e][1]),
+              d = std::max(opposite[e][0], opposite[e][1]);
+    // Two sorted pairs merged: the ends (3/8) and the third corners (1/8), distinct.
+    const int ends[2] = {a, b}, corners[2] = {c, d};
+    int i = 0, m = 0;
+    while (i < 2 || m < 2) {
+      if (m == 2 || (i < 2 && ends[i] < corners[m]))
+        put(ends[i++], 0.375);
+      else if (k > outer[n + e] && col[k - 1] == corners[m])
+        value[k - 1] += 0.125, ++m;
+      else
+        put(corners[m++], 0.125);
+    }
   }
-  sortRowsSummingRepeats(P);
   return P;
 }
 
