@@ -197,6 +197,28 @@ std::vector<int> permutation(int n, std::mt19937_64& rng) {
 
 }  // namespace
 
+void expectSameConnectivity(const Connectivity& a, const Connectivity& b) {
+  ASSERT_EQ(a.numVertices(), b.numVertices());
+  ASSERT_EQ(a.numFaces(), b.numFaces());
+  ASSERT_EQ(a.numEdges(), b.numEdges());
+  for (int h = 0; h < 3 * a.numFaces(); ++h) {
+    ASSERT_EQ(a.twin(h), b.twin(h)) << "halfedge " << h;
+    ASSERT_EQ(a.edge(h), b.edge(h)) << "halfedge " << h;
+  }
+  for (int e = 0; e < a.numEdges(); ++e) ASSERT_EQ(a.edgeHalfedge(e), b.edgeHalfedge(e));
+  const auto list = [](IndexSpan s) { return std::vector<int>(s.begin(), s.end()); };
+  for (int v = 0; v < a.numVertices(); ++v) {
+    ASSERT_EQ(list(a.ring(v)), list(b.ring(v))) << "vertex " << v;
+    ASSERT_EQ(list(a.fan(v)), list(b.fan(v))) << "vertex " << v;
+    ASSERT_EQ(a.isBoundaryVertex(v), b.isBoundaryVertex(v)) << "vertex " << v;
+    ASSERT_EQ(a.isManifoldVertex(v), b.isManifoldVertex(v)) << "vertex " << v;
+  }
+  EXPECT_EQ(a.firstNonManifoldEdgeFace, b.firstNonManifoldEdgeFace);
+  EXPECT_EQ(a.firstFlippedFace, b.firstFlippedFace);
+  EXPECT_EQ(a.firstNonManifoldVertex, b.firstNonManifoldVertex);
+  EXPECT_EQ(a.firstIsolatedVertex, b.firstIsolatedVertex);
+}
+
 std::vector<int> randomPermutation(int n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   return permutation(n, rng);

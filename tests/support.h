@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "osdmra/mesh/connectivity.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/mra/decomposition.h"
 
@@ -88,6 +89,10 @@ TriMesh moebiusStrip(int n);
 
 /// A random permutation of 0..n-1 (std::shuffle of the identity with mt19937_64(seed)).
 std::vector<int> randomPermutation(int n, std::uint64_t seed);
+
+/// Asserts (gtest) that two Connectivity objects over the same faces hold the same
+/// twins, edge numbering, rings, fans, flags and recorded defects.
+void expectSameConnectivity(const Connectivity& a, const Connectivity& b);
 
 /// `m` with vertex i renumbered newIndexOf[i]; faces in the same order.
 TriMesh renumberVertices(const TriMesh& m, const std::vector<int>& newIndexOf);

@@ -230,64 +230,119 @@ Connectivity::Connectivity(const Faces& F, int numVertices) : F_(F) {
   }
 
   // Rings: walk each vertex's fan counter-clockwise, h -> twin(prev(h)).
+  startRings(numVertices, nh);
+  for (int v = 0; v < numVertices; ++v) {
+    const int begin = outOffset[v], end = outOffset[v + 1];
+    // Start at an outgoing boundary halfedge when there is one: clockwise from it
+    // there is nothing, so the counter-clockwise walk covers the whole fan.
+    int start = begin < end ? out[begin] : -1, starts = 0;
+    for (int k = begin; k < end; ++k)
+      if (twin_[out[k]] < 0 && halfedgeEdge_[out[k]] >= 0) {
+        // A boundary edge only if no halfedge of the same edge runs the other way.
+        const int hh = out[k];
+        bool paired = false;
+        for (int q = outOffset[outTo[k]]; q < outOffset[outTo[k] + 1]; ++q)
+          if (outTo[q] == v) paired = true;
+        if (!paired) {
+          start = hh;
+          ++starts;
+        }
+      }
+    walkFan(v, start, end - begin, starts);
+  }
+}
+
+Connectivity::Connectivity(const Faces& F, int numVertices, const FaceEdgeList& faceEdges,
+                           int numEdges)
+    : F_(F) {
+  const int nh = 3 * static_cast<int>(F.rows());
+  // Twins paired through the known edges; anything but one halfedge each way (or one
+  // alone, a boundary) is left to the general construction.
+  twin_.assign(nh, -1);
+  std::vector<int> firstOf(numEdges, -1);
+  for (int h = 0; h < nh; ++h) {
+    int& first = firstOf[faceEdges[h / 3][h % 3]];
+    if (first < 0) {
+      first = h;
+    } else if (twin_[first] >= 0 || from(first) == from(h)) {
+      *this = Connectivity(F, numVertices);
+      return;
+    } else {
+      twin_[first] = h;
+      twin_[h] = first;
+    }
+  }
+  // Edges numbered in order of first appearance, as the general construction does.
+  halfedgeEdge_.assign(nh, -1);
+  edgeHalfedge_.reserve(numEdges);
+  for (int h = 0; h < nh; ++h)
+    if (halfedgeEdge_[h] < 0) {
+      halfedgeEdge_[h] = static_cast<int>(edgeHalfedge_.size());
+      if (twin_[h] >= 0) halfedgeEdge_[twin_[h]] = halfedgeEdge_[h];
+      edgeHalfedge_.push_back(h);
+    }
+  // Each vertex's first outgoing halfedge, or its (last) outgoing boundary one.
+  std::vector<int> start(numVertices, -1), numOut(numVertices, 0), starts(numVertices, 0);
+  for (int h = 0; h < nh; ++h) {
+    const int v = from(h);
+    if (numOut[v]++ == 0 && starts[v] == 0) start[v] = h;
+    if (twin_[h] < 0) {
+      start[v] = h;
+      ++starts[v];
+    }
+  }
+  startRings(numVertices, nh);
+  for (int v = 0; v < numVertices; ++v) walkFan(v, start[v], numOut[v], starts[v]);
+}
+
+void Connectivity::startRings(int numVertices, int nh) {
   boundaryVertex_.assign(numVertices, 0);
   manifoldVertex_.assign(numVertices, 1);
   ringOffset_.assign(numVertices + 1, 0);
   fanOffset_.assign(numVertices + 1, 0);
   ringVerts_.reserve(nh + nh / 8);
   fanHalfedges_.reserve(nh);
-  for (int v = 0; v < numVertices; ++v) {
-    const int begin = outOffset[v], end = outOffset[v + 1];
-    if (begin == end) {
-      if (firstIsolatedVertex < 0) firstIsolatedVertex = v;
-      manifoldVertex_[v] = 0;
-    } else {
-      // Start at an outgoing boundary halfedge when there is one: clockwise from it
-      // there is nothing, so the counter-clockwise walk covers the whole fan.
-      int start = out[begin], starts = 0;
-      for (int k = begin; k < end; ++k)
-        if (twin_[out[k]] < 0 && halfedgeEdge_[out[k]] >= 0) {
-          // A boundary edge only if no halfedge of the same edge runs the other way.
-          const int hh = out[k];
-          bool paired = false;
-          for (int q = outOffset[outTo[k]]; q < outOffset[outTo[k] + 1]; ++q)
-            if (outTo[q] == v) paired = true;
-          if (!paired) {
-            start = hh;
-            ++starts;
-          }
-        }
-      const std::size_t ringBegin = ringVerts_.size(), fanBegin = fanHalfedges_.size();
-      int h = start, steps = 0;
-      bool closed = false;
-      while (steps <= end - begin) {
-        fanHalfedges_.push_back(h);
-        ringVerts_.push_back(to(h));
-        ++steps;
-        const int p = twin_[prev(h)];
-        if (p < 0) {
-          ringVerts_.push_back(from(prev(h)));
-          break;
-        }
-        if (p == start) {
-          closed = true;
-          break;
-        }
-        h = p;
+}
+
+// Vertex v's fan walked counter-clockwise from `start` (h -> twin(prev(h))) over its
+// `numOut` outgoing halfedges, `starts` of them on a boundary; the vertex is
+// non-manifold (no ring) unless the walk covers them all as one fan. Vertices are
+// walked in order: v's ring ends the rings so far.
+void Connectivity::walkFan(int v, int start, int numOut, int starts) {
+  if (numOut == 0) {
+    if (firstIsolatedVertex < 0) firstIsolatedVertex = v;
+    manifoldVertex_[v] = 0;
+  } else {
+    const std::size_t ringBegin = ringVerts_.size(), fanBegin = fanHalfedges_.size();
+    int h = start, steps = 0;
+    bool closed = false;
+    while (steps <= numOut) {
+      fanHalfedges_.push_back(h);
+      ringVerts_.push_back(to(h));
+      ++steps;
+      const int p = twin_[prev(h)];
+      if (p < 0) {
+        ringVerts_.push_back(from(prev(h)));
+        break;
       }
-      const bool manifold = steps == end - begin && starts <= 1 && (closed == (starts == 0));
-      if (!manifold) {
-        manifoldVertex_[v] = 0;
-        if (firstNonManifoldVertex < 0) firstNonManifoldVertex = v;
-        ringVerts_.resize(ringBegin);
-        fanHalfedges_.resize(fanBegin);
-      } else {
-        boundaryVertex_[v] = closed ? 0 : 1;
+      if (p == start) {
+        closed = true;
+        break;
       }
+      h = p;
     }
-    ringOffset_[v + 1] = static_cast<int>(ringVerts_.size());
-    fanOffset_[v + 1] = static_cast<int>(fanHalfedges_.size());
+    const bool manifold = steps == numOut && starts <= 1 && (closed == (starts == 0));
+    if (!manifold) {
+      manifoldVertex_[v] = 0;
+      if (firstNonManifoldVertex < 0) firstNonManifoldVertex = v;
+      ringVerts_.resize(ringBegin);
+      fanHalfedges_.resize(fanBegin);
+    } else {
+      boundaryVertex_[v] = closed ? 0 : 1;
+    }
   }
+  ringOffset_[v + 1] = static_cast<int>(ringVerts_.size());
+  fanOffset_[v + 1] = static_cast<int>(fanHalfedges_.size());
 }
 
 std::array<int, 2> Connectivity::edgeVertices(int e) const {

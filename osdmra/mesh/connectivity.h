@@ -74,6 +74,14 @@ class Connectivity {
  public:
   Connectivity() = default;
   Connectivity(const Faces& F, int numVertices);
+  /// Per face, the undirected edge index of each halfedge (edge i of face f joins its
+  /// corners i and i + 1), in any numbering over numEdges edges.
+  using FaceEdgeList = std::vector<std::array<int, 3>>;
+  /// The same connectivity as Connectivity(F, numVertices), built faster where each
+  /// halfedge's undirected edge is known already (a subdivision level's, as OpenSubdiv
+  /// numbers them): twins are paired through them instead of searched for. A mesh
+  /// they do not show manifold and consistently oriented gets the general construction.
+  Connectivity(const Faces& F, int numVertices, const FaceEdgeList& faceEdges, int numEdges);
 
   int numVertices() const { return static_cast<int>(ringOffset_.size()) - 1; }
   int numFaces() const { return static_cast<int>(F_.rows()); }
@@ -116,6 +124,9 @@ class Connectivity {
   int eulerCharacteristic() const;
 
  private:
+  void startRings(int numVertices, int numHalfedges);
+  void walkFan(int v, int start, int numOut, int starts);
+
   Faces F_;
   std::vector<int> twin_, halfedgeEdge_, edgeHalfedge_;
   std::vector<int> ringOffset_, ringVerts_, fanOffset_, fanHalfedges_;

@@ -140,7 +140,7 @@ SparseMatrix fromRuns(int rows, int cols, const Runs& runs) {
 // One level's edges and, per face, its edges: face f's edge i joins its corners i and
 // i + 1, as in OpenSubdiv's Vtr levels.
 using Edges = std::vector<std::array<int, 2>>;
-using FaceEdges = std::vector<std::array<int, 3>>;
+using FaceEdges = Connectivity::FaceEdgeList;
 
 }  // namespace
 
@@ -148,7 +148,7 @@ struct Hierarchy::Impl {
   std::vector<Faces> faces;
   std::vector<int> numVertices;
   std::vector<Edges> edges;          // per level below the finest: OpenSubdiv's edges
-  std::vector<FaceEdges> faceEdges;  // manifold bases, until Loop's matrices are written
+  std::vector<FaceEdges> faceEdges;  // the same, for a manifold base (split by osdmra)
   std::vector<SparseMatrix> P[2];    // [Loop, Linear] per level
   // The refinement matrices are extracted on first use (refinement()), and the refiner
   // freed then: a decoder needs the faces and edges at once and the matrices only on
@@ -524,8 +524,6 @@ void Hierarchy::Impl::extractMatrices() {
   P[0].swap(extracted[0]);
   P[1].swap(extracted[1]);
   refiner.reset();
-  faceEdges.clear();
-  faceEdges.shrink_to_fit();
 }
 
 Hierarchy::~Hierarchy() = default;
@@ -547,7 +545,12 @@ const Faces& Hierarchy::faces(int j) const {
 
 const Connectivity& Hierarchy::connectivity(int j) const {
   std::call_once(impl_->connOnce[j], [&] {
-    impl_->conn[j] = std::make_unique<Connectivity>(impl_->faces[j], impl_->numVertices[j]);
+    const int n = impl_->numVertices[j];
+    // Below the finest level a split hierarchy knows each face's edges.
+    impl_->conn[j] = j < static_cast<int>(impl_->faceEdges.size())
+                         ? std::make_unique<Connectivity>(impl_->faces[j], n, impl_->faceEdges[j],
+                                                          static_cast<int>(impl_->edges[j].size()))
+                         : std::make_unique<Connectivity>(impl_->faces[j], n);
   });
   return *impl_->conn[j];
 }

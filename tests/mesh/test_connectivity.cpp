@@ -6,8 +6,10 @@
 
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 namespace {
 
@@ -91,5 +93,28 @@ TEST(VertexRings, Defects) {
     const VertexRings r(oct.F, 7);
     EXPECT_EQ(r.firstIsolatedVertex, 6);
     EXPECT_EQ(r.firstNonManifoldVertex, -1);
+  }
+}
+
+// Built from known face edges (a subdivision level's), Connectivity is the one built
+// from the faces alone, in any edge numbering; a face list those edges do not show
+// consistently oriented (a flipped face) gets the general construction, defect and all.
+TEST(Connectivity, FromFaceEdgesIsTheSame) {
+  for (const auto& [name, m] : shapes::all()) {
+    SCOPED_TRACE(name);
+    const int n = static_cast<int>(m.V.rows());
+    const Connectivity general(m.F, n);
+    const int E = general.numEdges();
+    Connectivity::FaceEdgeList FE(m.F.rows());
+    for (int h = 0; h < 3 * general.numFaces(); ++h)
+      FE[h / 3][h % 3] = E - 1 - general.edge(h);  // another numbering
+    expectSameConnectivity(Connectivity(m.F, n, FE, E), general);
+    Faces flipped = m.F;
+    std::swap(flipped(0, 1), flipped(0, 2));
+    Connectivity::FaceEdgeList flippedFE = FE;
+    flippedFE[0] = {FE[0][2], FE[0][1], FE[0][0]};  // (v0, v2), (v2, v1), (v1, v0)
+    const Connectivity flippedGeneral(flipped, n);
+    EXPECT_GE(flippedGeneral.firstFlippedFace, 0);
+    expectSameConnectivity(Connectivity(flipped, n, flippedFE, E), flippedGeneral);
   }
 }

@@ -13,8 +13,10 @@
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/subdivision/hierarchy.h"
 #include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
+using namespace osdmra::test;
 
 TEST(Hierarchy, OctahedronCounts) {
   Hierarchy h(shapes::octahedron().F, 6, 3);
@@ -247,6 +249,17 @@ TEST(Hierarchy, OwnSplitIsOpenSubdivs) {
         ASSERT_EQ(h.parentEdge(j, e), ends) << "level " << j << " edge " << e;
       }
     }
+  }
+}
+
+// A split hierarchy builds its levels' Connectivity from the face edges it knows: the
+// same as built from the faces alone, at every level.
+TEST(Hierarchy, ConnectivityOfEveryLevelIsTheGeneralOne) {
+  for (const auto& [name, base] : bases()) {
+    SCOPED_TRACE(name);
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
+    for (int j = 0; j <= 3; ++j)
+      expectSameConnectivity(h.connectivity(j), Connectivity(h.faces(j), h.numVertices(j)));
   }
 }
 
