@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 
-#include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
 
 namespace osdmra {
@@ -41,28 +40,25 @@ LocalFrames edgeFrames(const Hierarchy& h, int j, const Points& c) {
   const Points N = vertexNormals(h.faces(j), c);
   const int E = h.numVertices(j + 1) - h.numVertices(j);
   LocalFrames f{Points(E, 3), Points(E, 3), Points(E, 3)};
-  // Each edge's frame alone: chunks of edges on both cores write disjoint rows.
-  forChunks(E, numChunks(E, 1 << 12), [&](int, int begin, int end) {
-    for (int e = begin; e < end; ++e) {
-      const auto [a, b] = h.parentEdge(j, e);
-      Vec3 n = N.row(a) + N.row(b);
-      if (!normalise(n)) n = Vec3(0, 0, 1);
-      Vec3 t = c.row(b) - c.row(a);
-      t -= t.dot(n) * n;
-      if (!normalise(t)) {
-        // Any direction orthogonal to n: the axis least aligned with it, projected.
-        Vec3 axis = Vec3::Zero();
-        int k = 0;
-        n.cwiseAbs().minCoeff(&k);
-        axis[k] = 1;
-        t = axis - axis.dot(n) * n;
-        normalise(t);
-      }
-      f.normal.row(e) = n;
-      f.along.row(e) = t;
-      f.across.row(e) = n.cross(t);
+  for (int e = 0; e < E; ++e) {
+    const auto [a, b] = h.parentEdge(j, e);
+    Vec3 n = N.row(a) + N.row(b);
+    if (!normalise(n)) n = Vec3(0, 0, 1);
+    Vec3 t = c.row(b) - c.row(a);
+    t -= t.dot(n) * n;
+    if (!normalise(t)) {
+      // Any direction orthogonal to n: the axis least aligned with it, projected.
+      Vec3 axis = Vec3::Zero();
+      int k = 0;
+      n.cwiseAbs().minCoeff(&k);
+      axis[k] = 1;
+      t = axis - axis.dot(n) * n;
+      normalise(t);
     }
-  });
+    f.normal.row(e) = n;
+    f.along.row(e) = t;
+    f.across.row(e) = n.cross(t);
+  }
   return f;
 }
 

@@ -2,10 +2,8 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseLU>
-#include <algorithm>
 #include <string>
 
-#include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
 
 namespace osdmra {
@@ -123,13 +121,9 @@ Points synthesisStep(const FilterBank& bank, int j, const Points& coarse, const 
     throw Error("synthesis: level " + std::to_string(j) + " expects " + std::to_string(n) +
                 " coarse points and " + std::to_string(nn - n) + " details");
   const Points u = coarse - bank.alpha[j] * detail;
-  const SparseMatrix& P = h.refinement(bank.scheme, j);
   Points fine(nn, 3);
-  // Row blocks of P u on both cores: each row's sum is the whole product's.
-  forChunks(nn, numChunks(nn, 1 << 13), [&](int, int begin, int end) {
-    fine.middleRows(begin, end - begin) = P.middleRows(begin, end - begin) * u;
-    for (int r = std::max(begin, n); r < end; ++r) fine.row(r) += detail.row(r - n);
-  });
+  fine = h.refinement(bank.scheme, j) * u;
+  fine.bottomRows(nn - n) += detail;
   return fine;
 }
 
