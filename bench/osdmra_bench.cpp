@@ -10,10 +10,14 @@
 // Benchmarks run grouped by J and the caches only hold the current J, so memory
 // stays at one level's worth.
 //
-//   Hierarchy/J:j                  osdmra::Hierarchy construction (as of this writing:
-//                                  refiner, per-level faces and edges, both P^j matrices
-//                                  copied out; Connectivity is built lazily); destruction
-//                                  untimed
+//   Hierarchy/J:j                  osdmra::Hierarchy construction (as of this writing: an
+//                                  unrefined refiner for the base's edges, then osdmra's
+//                                  own split of every level's faces and edges; the P^j
+//                                  and Connectivity are built lazily); destruction untimed
+//   Refinement/<scheme>/J:j        Hierarchy::prepareRefinement() of a fresh hierarchy of
+//                                  that scheme only (built untimed): its P^j, j < J (Loop
+//                                  written from the split topology, as OpenSubdiv's masks
+//                                  give them; OsdInterpolate is the baseline)
 //   Connectivity/J:j               Hierarchy::connectivity(j) for j = 0..J on a fresh
 //                                  hierarchy (built untimed): the lazily built adjacency
 //   OsdRefine/J:j                  Far::TopologyRefinerFactory::Create + RefineUniform(J),
@@ -244,6 +248,21 @@ void bmOsdInterpolate(benchmark::State& state, int J) {
   report(state, J);
 }
 
+void bmRefinement(benchmark::State& state, int J, Scheme scheme) {
+  const TriMesh& base = baseMesh();
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto h = std::make_unique<Hierarchy>(base.F, static_cast<int>(base.V.rows()), J, scheme);
+    state.ResumeTiming();
+    h->prepareRefinement();
+    benchmark::DoNotOptimize(&h->refinement(scheme, J - 1));
+    state.PauseTiming();
+    h.reset();
+    state.ResumeTiming();
+  }
+  report(state, J);
+}
+
 void bmConnectivity(benchmark::State& state, int J) {
   const TriMesh& base = baseMesh();
   for (auto _ : state) {
@@ -320,6 +339,9 @@ void registerAll() {
     const std::string level = "/J:" + std::to_string(J);
     add("Hierarchy" + level, [J](benchmark::State& s) { bmHierarchy(s, J); });
     add("Connectivity" + level, [J](benchmark::State& s) { bmConnectivity(s, J); });
+    for (Scheme scheme : {Scheme::Loop, Scheme::Linear})
+      add(std::string("Refinement/") + schemeName(scheme) + level,
+          [J, scheme](benchmark::State& s) { bmRefinement(s, J, scheme); });
     add("OsdRefine" + level, [J](benchmark::State& s) { bmOsdRefine(s, J, false); });
     add("OsdRefineFull" + level, [J](benchmark::State& s) { bmOsdRefine(s, J, true); });
     add("OsdInterpolate" + level, [J](benchmark::State& s) { bmOsdInterpolate(s, J); });
