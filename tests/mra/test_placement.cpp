@@ -228,10 +228,16 @@ TEST(Placement, LevelsIsClosestOnUniformLevels) {
     const TriMesh& full = levels.fullResolution();
     ASSERT_EQ(all.mesh.V.rows(), full.V.rows());
     EXPECT_EQ(all.mesh.V, full.V);
+    // An approximator left to fit its levels on first use (only those an extraction
+    // needs, on both cores) places every vertex as the prepared one does, exactly.
+    const Approximator lazy(bank, d, levelsOptions);
     for (long long budget : {80LL, 300LL, 900LL}) {
-      const Approximation x = plain.budget(budget), y = levels.budget(budget);
+      const Approximation x = plain.budget(budget), y = levels.budget(budget),
+                          z = lazy.budget(budget);
       ASSERT_EQ(x.mesh.F, y.mesh.F) << budget;
       ASSERT_TRUE(y.mesh.V.allFinite());
+      ASSERT_EQ(z.mesh.F, y.mesh.F) << budget;
+      EXPECT_EQ(z.mesh.V, y.mesh.V) << budget;
     }
   }
   EXPECT_EQ(parsePlacement("levels"), Placement::Levels);
