@@ -371,9 +371,10 @@ SparseMatrix loopRefinementFromTopology(int n, const Faces& F, const Edges& E,
   return P;
 }
 
+// Whether osdmra's split and Loop rules cover this base: manifold, every vertex in a face.
 bool isManifold(const Far::TopologyLevel& L) {
   for (int v = 0; v < L.GetNumVertices(); ++v)
-    if (L.IsVertexNonManifold(v)) return false;
+    if (L.IsVertexNonManifold(v) || L.GetVertexFaces(v).size() == 0) return false;
   for (int e = 0; e < L.GetNumEdges(); ++e)
     if (L.IsEdgeNonManifold(e)) return false;
   return true;

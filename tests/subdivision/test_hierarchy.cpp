@@ -207,8 +207,8 @@ std::vector<std::vector<std::vector<std::pair<int, double>>>> primvarLoopRows(co
   return out;
 }
 
-// The shapes, and a non-manifold base (two tetrahedra sharing a vertex), which the
-// hierarchy hands to OpenSubdiv's refiner instead.
+// The shapes, a non-manifold base (two tetrahedra sharing a vertex) and one with a
+// vertex in no face, which the hierarchy hands to OpenSubdiv's refiner instead.
 std::vector<std::pair<std::string, TriMesh>> bases() {
   std::vector<std::pair<std::string, TriMesh>> all = shapes::all();
   const TriMesh t = shapes::tetrahedron();
@@ -220,6 +220,10 @@ std::vector<std::pair<std::string, TriMesh>> bases() {
   for (int f = 0; f < 4; ++f)
     for (int i = 0; i < 3; ++i) bowtie.F(4 + f, i) = t.F(f, 2 - i) == 0 ? 0 : t.F(f, 2 - i) + 3;
   all.emplace_back("bowtie", bowtie);
+  TriMesh isolated = shapes::octahedron();  // and a vertex in no face
+  isolated.V.conservativeResize(7, 3);
+  isolated.V.row(6) << 0, 0, 0;
+  all.emplace_back("isolated vertex", isolated);
   return all;
 }
 
