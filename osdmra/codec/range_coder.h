@@ -110,24 +110,34 @@ inline constexpr std::uint32_t kMinP = 31;
 // Adaptation shift by how many decisions the context has seen: fast at first, then
 // 1/64 (a window of about 64 decisions, which follows the drift of a zerotree's
 // statistics from one bit plane to the next).
+// The adaptation rate after `seen` decisions: 2 below 4, 3 below 12, 4 below 28, 5
+// below 60, 6 below 124, then 7 (a table: this runs once per decision).
+struct AdaptShifts {
+  std::uint8_t shift[256];
+  constexpr AdaptShifts() : shift() {
+    for (int seen = 0; seen < 256; ++seen)
+      shift[seen] = seen < 4     ? 2
+                    : seen < 12  ? 3
+                    : seen < 28  ? 4
+                    : seen < 60  ? 5
+                    : seen < 124 ? 6
+                                 : 7;
+  }
+};
+inline constexpr AdaptShifts kAdaptShifts{};
+
 inline int adaptShift(std::uint8_t seen) {
-  if (seen < 4) return 2;
-  if (seen < 12) return 3;
-  if (seen < 28) return 4;
-  if (seen < 60) return 5;
-  if (seen < 124) return 6;
-  return 7;
+  return kAdaptShifts.shift[seen];
 }
 
 }  // namespace range_coder_detail
 
 inline void BitModel::update(int bit) {
   const int shift = range_coder_detail::adaptShift(seen);
-  if (seen < 255) ++seen;
-  if (bit)
-    state -= state >> shift;
-  else
-    state += (kOne - state) >> shift;
+  seen += seen < 255;
+  // Both moves computed and one kept: the bit is as good as random to a branch predictor.
+  const std::uint32_t down = state - (state >> shift), up = state + ((kOne - state) >> shift);
+  state = bit ? down : up;
 }
 
 inline std::uint32_t BitModel::p0() const {
@@ -150,13 +160,11 @@ inline int RangeDecoder::decide(std::uint32_t bound) {
     exhausted_ = true;
     return 0;
   }
-  if (bit) {
-    low_ -= bound;
-    high_ -= bound;
-    range_ -= bound;
-  } else {
-    range_ = bound;
-  }
+  // Without a branch on the bit (see BitModel::update).
+  const std::uint32_t taken = bit ? bound : 0;
+  low_ -= taken;
+  high_ -= taken;
+  range_ = bit ? range_ - bound : bound;
   while (range_ < range_coder_detail::kTop) {
     range_ <<= 8;
     low_ = (low_ << 8) | byteAt(next_, 0x00);
