@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <optional>
 
 #include "osdmra/base/error.h"
 
@@ -146,6 +147,35 @@ struct State {
   }
 };
 
+// One level's arrays as raw pointers, taken once per level and pass: indexed through
+// the vectors of vectors, every access reloaded their data pointers, since a store to
+// any of the byte arrays may alias them as far as the compiler knows.
+struct LevelView {
+  std::int32_t* high;
+  std::int8_t *plane, *sign, *born;
+  std::uint8_t *subtree, *parentSig, *significantNear, *subtreeNear;
+  std::uint64_t *active, *bornNow;
+  const std::array<int, 4>* children;  // none at the last level
+  const std::array<int, 4>* neighbours;
+
+  LevelView(const EdgeTree& t, State& s, std::size_t j)
+      : high(s.high[j].data()),
+        plane(s.plane[j].data()),
+        sign(s.sign[j].data()),
+        born(s.born[j].data()),
+        subtree(s.subtree[j].data()),
+        parentSig(s.parentSig[j].data()),
+        significantNear(s.significantNear[j].data()),
+        subtreeNear(s.subtreeNear[j].data()),
+        active(s.active[j].data()),
+        bornNow(s.bornNow[j].data()),
+        children(j < t.children.size() ? t.children[j].data() : nullptr),
+        neighbours(t.neighbours[j].data()) {}
+  static void mark(std::uint64_t* set, std::size_t i) {
+    set[i / 64] |= std::uint64_t{1} << (i % 64);
+  }
+};
+
 // Calls visit(i) for every member of `set` in ascending order, each word read before
 // its members are visited (visit may change the set). Stops when visit returns false.
 template <class Visit>
@@ -160,9 +190,8 @@ bool forEachMember(const std::vector<std::uint64_t>& set, Visit&& visit) {
 // component, the edges beside it in its triangles; the relation is symmetric) counts
 // one more such neighbour. The counts are kept as nodes change rather than gathered at
 // every decision; the contexts cap them at 2.
-void countForNeighbours(const EdgeTree& t, std::vector<std::uint8_t>& counts, int j,
-                        std::size_t i) {
-  for (int e : t.neighbours[j][i / 3])
+void countForNeighbours(const LevelView& L, std::uint8_t* counts, std::size_t i) {
+  for (int e : L.neighbours[i / 3])
     if (e >= 0) ++counts[3 * static_cast<std::size_t>(e) + i % 3];
 }
 
@@ -170,62 +199,65 @@ int capped(std::uint8_t count) {
   return count < 2 ? count : 2;
 }
 
-int componentClass(const State& s, int j, std::size_t i) {
+int componentClass(const LevelView& L, std::size_t i) {
   const std::size_t c = i % 3;
   if (c == 0) return 0;
-  return s.born[j][i - c] >= 0 ? 2 : 1;
+  return L.born[i - c] >= 0 ? 2 : 1;
 }
 
-// One node's sorting-pass events: its significance, then its subtree's. Returns
-// false when the coder stopped (a cut stream), with nothing half-applied.
+// One node's sorting-pass events: its significance, then its subtree's (`child` is the
+// next level's view, none at the last level). Returns false when the coder stopped (a
+// cut stream), with nothing half-applied.
 template <class Io>
-bool sortNode(const EdgeTree& t, int j, std::size_t i, int p, State& s, Contexts& ctx, Io& io) {
-  const int lc = std::min(j, kLevelContexts - 1), cls = componentClass(s, j, i);
-  if (s.born[j][i] < 0) {
-    BitModel& m = ctx.significance[lc][cls][s.parentSig[j][i]][capped(s.significantNear[j][i])];
+bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, int p,
+              Contexts& ctx, Io& io) {
+  const int lc = std::min(j, kLevelContexts - 1), cls = componentClass(L, i);
+  if (L.born[i] < 0) {
+    BitModel& m = ctx.significance[lc][cls][L.parentSig[i]][capped(L.significantNear[i])];
     const int bit = io.significant(m, j, i, p);
     if (io.stopped()) return false;
     if (bit) {
       const int negative = io.sign(j, i);
       if (io.stopped()) return false;
-      s.born[j][i] = s.plane[j][i] = static_cast<std::int8_t>(p);
-      countForNeighbours(t, s.significantNear[j], j, i);
-      s.high[j][i] = 1;
-      s.sign[j][i] = negative ? -1 : 1;
-      State::mark(s.bornNow[j], i);
+      L.born[i] = L.plane[i] = static_cast<std::int8_t>(p);
+      countForNeighbours(L, L.significantNear, i);
+      L.high[i] = 1;
+      L.sign[i] = negative ? -1 : 1;
+      LevelView::mark(L.bornNow, i);
     }
   }
-  if (j + 1 < static_cast<int>(t.edges.size()) && !s.subtree[j][i]) {
-    const int self = s.born[j][i] >= 0;
-    const int bit = io.subtree(ctx.subtree[lc][cls][self][capped(s.subtreeNear[j][i])], j, i, p);
+  if (child && !L.subtree[i]) {
+    const int self = L.born[i] >= 0;
+    const int bit = io.subtree(ctx.subtree[lc][cls][self][capped(L.subtreeNear[i])], j, i, p);
     if (io.stopped()) return false;
     if (bit) {
-      s.subtree[j][i] = 1;
-      countForNeighbours(t, s.subtreeNear[j], j, i);
-      for (int child : t.children[j][i / 3])
-        if (child >= 0) {
-          const std::size_t k = 3 * static_cast<std::size_t>(child) + i % 3;
-          State::mark(s.active[j + 1], k);
-          s.parentSig[j + 1][k] = static_cast<std::uint8_t>(self);
+      L.subtree[i] = 1;
+      countForNeighbours(L, L.subtreeNear, i);
+      for (int c : L.children[i / 3])
+        if (c >= 0) {
+          const std::size_t k = 3 * static_cast<std::size_t>(c) + i % 3;
+          LevelView::mark(child->active, k);
+          child->parentSig[k] = static_cast<std::uint8_t>(self);
         }
     }
   }
   return true;
 }
 
-// A node leaves the sorting passes once significant with its subtree known to be
-// (or at the last level, where it has none).
-bool sortingDone(const EdgeTree& t, const State& s, int j, std::size_t i) {
-  return s.born[j][i] >= 0 && (j + 1 == static_cast<int>(t.edges.size()) || s.subtree[j][i]);
-}
-
 template <class Io>
 bool sortingPass(const EdgeTree& t, int p, State& s, Contexts& ctx, Io& io) {
-  for (int j = 0; j < static_cast<int>(t.edges.size()); ++j) {
-    std::vector<std::uint64_t>& active = s.active[j];
-    const bool ok = forEachMember(active, [&](std::size_t i) {
-      if (!sortNode(t, j, i, p, s, ctx, io)) return false;
-      if (sortingDone(t, s, j, i)) active[i / 64] &= ~(std::uint64_t{1} << (i % 64));
+  const int levels = static_cast<int>(t.edges.size());
+  for (int j = 0; j < levels; ++j) {
+    const LevelView L(t, s, j);
+    const std::optional<LevelView> child =
+        j + 1 < levels ? std::optional<LevelView>(LevelView(t, s, j + 1)) : std::nullopt;
+    const LevelView* next = child ? &*child : nullptr;
+    // A node leaves the sorting passes once significant with its subtree known to be
+    // (or at the last level, where it has none).
+    const bool ok = forEachMember(s.active[j], [&](std::size_t i) {
+      if (!sortNode(L, next, j, i, p, ctx, io)) return false;
+      if (L.born[i] >= 0 && (!next || L.subtree[i]))
+        L.active[i / 64] &= ~(std::uint64_t{1} << (i % 64));
       return true;
     });
     if (!ok) return false;
