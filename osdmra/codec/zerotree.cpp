@@ -67,14 +67,47 @@ std::vector<std::array<int, 4>> levelNeighbours(const Hierarchy& h, int j) {
   return out;
 }
 
+// The same two relations read off the face edges of a split hierarchy
+// (Hierarchy::faceEdges), in the same order, without looking up the finer faces: edge
+// i of face f is halved into edges 3F + 2e and 3F + 2e + 1 of M^{j+1} (OpenSubdiv's
+// numbering, hierarchy.cpp), and the centre child's edge i is M^{j+1}'s edge 3f + 2,
+// 3f or 3f + 1 for i = 0, 1, 2.
+void levelRelations(const Connectivity::FaceEdgeList& FE, int numEdges, bool withChildren,
+                    std::vector<std::array<int, 4>>& children,
+                    std::vector<std::array<int, 4>>& neighbours) {
+  const int numFaces = static_cast<int>(FE.size());
+  neighbours.assign(numEdges, {-1, -1, -1, -1});
+  if (withChildren) children.assign(numEdges, {-1, -1, -1, -1});
+  for (int f = 0; f < numFaces; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const int e = FE[f][i];
+      if (withChildren) {
+        addChild(children[e], 3 * numFaces + 2 * e);
+        addChild(children[e], 3 * numFaces + 2 * e + 1);
+        addChild(children[e], 3 * f + (i + 2) % 3);
+      }
+      addChild(neighbours[e], FE[f][(i + 1) % 3]);
+      addChild(neighbours[e], FE[f][(i + 2) % 3]);
+    }
+}
+
 }  // namespace
 
 EdgeTree edgeTree(const Hierarchy& h) {
   EdgeTree t;
   const int J = h.levels();
   for (int j = 0; j < J; ++j) t.edges.push_back(h.numVertices(j + 1) - h.numVertices(j));
-  for (int j = 0; j + 1 < J; ++j) t.children.push_back(levelChildren(h, j));
-  for (int j = 0; j < J; ++j) t.neighbours.push_back(levelNeighbours(h, j));
+  t.children.resize(std::max(J - 1, 0));
+  t.neighbours.resize(J);
+  for (int j = 0; j < J; ++j) {
+    if (const Connectivity::FaceEdgeList* FE = h.faceEdges(j)) {
+      std::vector<std::array<int, 4>> none;
+      levelRelations(*FE, t.edges[j], j + 1 < J, j + 1 < J ? t.children[j] : none, t.neighbours[j]);
+      continue;
+    }
+    if (j + 1 < J) t.children[j] = levelChildren(h, j);
+    t.neighbours[j] = levelNeighbours(h, j);
+  }
   return t;
 }
 

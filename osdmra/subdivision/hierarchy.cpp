@@ -556,6 +556,10 @@ const Connectivity& Hierarchy::connectivity(int j) const {
   return *impl_->conn[j];
 }
 
+const Connectivity::FaceEdgeList* Hierarchy::faceEdges(int j) const {
+  return j < static_cast<int>(impl_->faceEdges.size()) ? &impl_->faceEdges[j] : nullptr;
+}
+
 std::array<int, 2> Hierarchy::parentEdge(int j, int e) const {
   return impl_->edges[j][e];
 }

@@ -65,6 +65,10 @@ class Hierarchy {
   std::array<int, 2> parentEdge(int j, int e) const;
   /// Vertex of M^{j+1} at the midpoint of the M^j edge {a, b}; -1 if not an edge.
   int midpoint(int j, int a, int b) const;
+  /// For j < J, per face of M^j the edge e (midpoint n_j + e) of each of its edges i
+  /// (from corner i to corner i + 1), as osdmra's split of a manifold base knows them;
+  /// null for a hierarchy refined by OpenSubdiv (a non-manifold base).
+  const Connectivity::FaceEdgeList* faceEdges(int j) const;
 
   /// P^{j+1} (n_{j+1} x n_j) for 0 <= j < J, taken from OpenSubdiv: Loop's vertex
   /// interpolation, or the varying (linear) interpolation on the same refiner, on first

@@ -15,7 +15,7 @@ namespace osdmra {
 namespace {
 
 TEST(EdgeTree, ChildrenAreTheEdgesThatRefineTheParent) {
-  for (const char* name : {"octahedron", "disc", "torus"}) {
+  for (const char* name : {"octahedron", "disc", "torus", "valences"}) {
     const TriMesh base = shapes::byName(name);
     const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
     const EdgeTree t = edgeTree(h);
@@ -59,10 +59,13 @@ TEST(EdgeTree, ChildrenAreTheEdgesThatRefineTheParent) {
         EXPECT_EQ(neighbours, 2 * faces) << name << " level " << j << " edge " << e;
         // The other children join the midpoints of the two other edges of a triangle
         // beside e: both ends are new vertices, neither is m.
+        const std::array<int, 4>& beside = t.neighbours[j][e];
         for (const std::set<int>& o : others)
           for (int v : o) {
             EXPECT_GE(v, h.numVertices(j));
             EXPECT_NE(v, m);
+            EXPECT_NE(std::find(beside.begin(), beside.end(), v - h.numVertices(j)), beside.end())
+                << name << " level " << j << " edge " << e;
           }
       }
       // Every edge of M^{j+1} has exactly one parent.
