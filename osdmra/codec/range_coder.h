@@ -107,11 +107,10 @@ inline constexpr std::uint32_t kTop = 1u << 24;  // renormalise when the range d
 // more than log2(65536 / 31) = 11 bits and every bound is a proper sub-range.
 inline constexpr std::uint32_t kMinP = 31;
 
-// Adaptation shift by how many decisions the context has seen: fast at first, then
-// 1/64 (a window of about 64 decisions, which follows the drift of a zerotree's
-// statistics from one bit plane to the next).
-// The adaptation rate after `seen` decisions: 2 below 4, 3 below 12, 4 below 28, 5
-// below 60, 6 below 124, then 7 (a table: this runs once per decision).
+// Adaptation shift by how many decisions the context has seen: fast at first (2 below
+// 4, 3 below 12, 4 below 28, 5 below 60, 6 below 124), then 7, a window of about 128
+// decisions, which follows the drift of a zerotree's statistics from one bit plane to
+// the next. A table: this runs once per decision.
 struct AdaptShifts {
   std::uint8_t shift[256];
   constexpr AdaptShifts() : shift() {

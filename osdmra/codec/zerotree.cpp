@@ -68,23 +68,24 @@ std::vector<std::array<int, 4>> levelNeighbours(const Hierarchy& h, int j) {
 }
 
 // The same two relations read off the face edges of a split hierarchy
-// (Hierarchy::faceEdges), in the same order, without looking up the finer faces: edge
-// i of face f is halved into edges 3F + 2e and 3F + 2e + 1 of M^{j+1} (OpenSubdiv's
-// numbering, hierarchy.cpp), and the centre child's edge i is M^{j+1}'s edge 3f + 2,
-// 3f or 3f + 1 for i = 0, 1, 2.
-void levelRelations(const Connectivity::FaceEdgeList& FE, int numEdges, bool withChildren,
-                    std::vector<std::array<int, 4>>& children,
+// (Hierarchy::faceEdges), without looking up the finer faces: edge i of face f is
+// halved into edges 3F + 2e and 3F + 2e + 1 of M^{j+1} (OpenSubdiv's numbering,
+// hierarchy.cpp), and the centre child's edge i is M^{j+1}'s edge 3f + 2, 3f or 3f + 1
+// for i = 0, 1, 2. The same sets as levelChildren's and levelNeighbours' (two halves
+// may be listed the other way round; the coder reads them as sets).
+void levelRelations(const Connectivity::FaceEdgeList& FE, int numEdges,
+                    std::vector<std::array<int, 4>>* children,
                     std::vector<std::array<int, 4>>& neighbours) {
   const int numFaces = static_cast<int>(FE.size());
   neighbours.assign(numEdges, {-1, -1, -1, -1});
-  if (withChildren) children.assign(numEdges, {-1, -1, -1, -1});
+  if (children) children->assign(numEdges, {-1, -1, -1, -1});
   for (int f = 0; f < numFaces; ++f)
     for (int i = 0; i < 3; ++i) {
       const int e = FE[f][i];
-      if (withChildren) {
-        addChild(children[e], 3 * numFaces + 2 * e);
-        addChild(children[e], 3 * numFaces + 2 * e + 1);
-        addChild(children[e], 3 * f + (i + 2) % 3);
+      if (children) {
+        addChild((*children)[e], 3 * numFaces + 2 * e);
+        addChild((*children)[e], 3 * numFaces + 2 * e + 1);
+        addChild((*children)[e], 3 * f + (i + 2) % 3);
       }
       addChild(neighbours[e], FE[f][(i + 1) % 3]);
       addChild(neighbours[e], FE[f][(i + 2) % 3]);
@@ -101,8 +102,7 @@ EdgeTree edgeTree(const Hierarchy& h) {
   t.neighbours.resize(J);
   for (int j = 0; j < J; ++j) {
     if (const Connectivity::FaceEdgeList* FE = h.faceEdges(j)) {
-      std::vector<std::array<int, 4>> none;
-      levelRelations(*FE, t.edges[j], j + 1 < J, j + 1 < J ? t.children[j] : none, t.neighbours[j]);
+      levelRelations(*FE, t.edges[j], j + 1 < J ? &t.children[j] : nullptr, t.neighbours[j]);
       continue;
     }
     if (j + 1 < J) t.children[j] = levelChildren(h, j);
@@ -142,6 +142,11 @@ struct Contexts {
   BitModel refinement[kLevelContexts][2][2];
 };
 
+// Adds node i to a bit set (one bit per node, 64 per word).
+void mark(std::uint64_t* set, std::size_t i) {
+  set[i / 64] |= std::uint64_t{1} << (i % 64);
+}
+
 // Everything both sides know, updated identically.
 struct State {
   std::vector<std::vector<std::int32_t>> high;
@@ -173,10 +178,8 @@ struct State {
       bornNow.emplace_back(words, 0);
     }
     if (!t.edges.empty())
-      for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(t.edges[0]); ++i) mark(active[0], i);
-  }
-  static void mark(std::vector<std::uint64_t>& set, std::size_t i) {
-    set[i / 64] |= std::uint64_t{1} << (i % 64);
+      for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(t.edges[0]); ++i)
+        mark(active[0].data(), i);
   }
 };
 
@@ -204,9 +207,6 @@ struct LevelView {
         bornNow(s.bornNow[j].data()),
         children(j < t.children.size() ? t.children[j].data() : nullptr),
         neighbours(t.neighbours[j].data()) {}
-  static void mark(std::uint64_t* set, std::size_t i) {
-    set[i / 64] |= std::uint64_t{1} << (i % 64);
-  }
 };
 
 // Calls visit(i) for every member of `set` in ascending order, each word read before
@@ -256,7 +256,7 @@ bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, 
       countForNeighbours(L, L.significantNear, i);
       L.high[i] = 1;
       L.sign[i] = negative ? -1 : 1;
-      LevelView::mark(L.bornNow, i);
+      mark(L.bornNow, i);
     }
   }
   if (child && !L.subtree[i]) {
@@ -269,7 +269,7 @@ bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, 
       for (int c : L.children[i / 3])
         if (c >= 0) {
           const std::size_t k = 3 * static_cast<std::size_t>(c) + i % 3;
-          LevelView::mark(child->active, k);
+          mark(child->active, k);
           child->parentSig[k] = static_cast<std::uint8_t>(self);
         }
     }
