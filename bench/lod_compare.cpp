@@ -3,6 +3,7 @@
 // Garland-Heckbert edge collapse, on the same inputs at the same triangle budgets.
 //
 //   osdmra_lod_compare IN... [--samples N] [--budgets B,B,...]
+//   osdmra_lod_compare --scans SCAN... [--samples N]   (any mesh, as lod --remesh takes it)
 //
 // Each IN must have subdivision connectivity (a remesh). Budgets: the paper's (4,054,
 // 12,310, 16,098 triangles) and 1%, 3%, 10% of each input's triangles, or the list
@@ -212,15 +213,69 @@ void compare(const std::string& path, const std::vector<long long>& given,
   }
 }
 
+// A scan as a user gives it to `osdmra lod SCAN --remesh --budget B`: remeshed (J = 5)
+// over the base size lod picks for the budget (baseFacesForBudget), analysed and cut
+// with lod's defaults (polyhedral, rate-distortion selection, closest placement:
+// kLodDefaults in cli/common.h); the peers simplify the scan itself; every mesh is
+// measured against the scan. Budgets: 1%, 3% and 10% of the scan's triangles. One
+// row per budget: triangles, RMS / Hausdorff of each, the ratios, and the times
+// (osdmra: remeshing and analysis, then the extraction; the peers: simplification).
+void compareScan(const std::string& path, const DistanceOptions& dist) {
+  const std::string name = path.substr(path.find_last_of('/') + 1);
+  InputOptions io;
+  io.remesh = true;
+  const TriMesh scan = readRemeshInput(path, io);
+  const int faces = static_cast<int>(scan.F.rows());
+  for (double p : {0.01, 0.03, 0.10}) {
+    const long long b = std::llround(p * faces);
+    io.remeshing.baseFaces = baseFacesForBudget(b, RemeshOptions{}.baseFaces);
+    const auto t0 = Clock::now();
+    const LoadedSurface s = loadSurface(path, io);
+    AnalysisOptions ao;
+    ao.scheme = Scheme::Linear;
+    ao.approximation.placement = Placement::Closest;
+    const AnalysedSurface a(s.mesh, ao, path);
+    a.approximator().triangleCounts();
+    const double prepare = secondsSince(t0);
+    const auto t1 = Clock::now();
+    const Approximation x = a.approximator().budget(b);
+    const double extract = secondsSince(t1);
+    const SurfaceDistance ours = surfaceDistance(x.mesh, scan, dist);
+    double mSeconds = 0;
+    const TriMesh m = meshoptSimplify(scan, b, mSeconds);
+    const SurfaceDistance mo = surfaceDistance(m, scan, dist);
+    char cgal[96] = "n/a", ratioCgal[16] = "n/a";
+#ifdef OSDMRA_HAVE_CGAL
+    double cSeconds = 0;
+    const TriMesh c = cgalGarlandHeckbert(scan, b, cSeconds);
+    const SurfaceDistance gh = surfaceDistance(c, scan, dist);
+    std::snprintf(cgal, sizeof cgal, "%d: %.2e / %.2e (%.2f s)", static_cast<int>(c.F.rows()),
+                  gh.rmsRelative, gh.hausdorffRelative, cSeconds);
+    std::snprintf(ratioCgal, sizeof ratioCgal, "%.2f", ours.rmsRelative / gh.rmsRelative);
+#endif
+    std::printf(
+        "| %s | %d | %lld | %d | %d: %.2e / %.2e (%.1f + %.2f s) | %d: %.2e / %.2e (%.2f s) "
+        "| %s | %.2f | %s |\n",
+        name.c_str(), faces, b, static_cast<int>(s.remeshing->result.base.F.rows()), x.triangles(),
+        ours.rmsRelative, ours.hausdorffRelative, prepare, extract, static_cast<int>(m.F.rows()),
+        mo.rmsRelative, mo.hausdorffRelative, mSeconds, cgal, ours.rmsRelative / mo.rmsRelative,
+        ratioCgal);
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> inputs;
   std::vector<long long> budgets;
   DistanceOptions dist;
+  bool scans = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--samples" && i + 1 < argc) {
+    if (a == "--scans") {
+      scans = true;
+    } else if (a == "--samples" && i + 1 < argc) {
       dist.samples = std::atoi(argv[++i]);
     } else if (a == "--budgets" && i + 1 < argc) {
       std::stringstream ss(argv[++i]);
@@ -230,8 +285,23 @@ int main(int argc, char** argv) {
     }
   }
   if (inputs.empty()) {
-    std::fprintf(stderr, "usage: osdmra_lod_compare IN... [--samples N] [--budgets B,B,...]\n");
+    std::fprintf(stderr,
+                 "usage: osdmra_lod_compare IN... [--samples N] [--budgets B,B,...]\n"
+                 "       osdmra_lod_compare --scans SCAN... [--samples N]\n");
     return 2;
+  }
+  if (scans) {
+    std::printf(
+        "| scan | faces | budget | base faces | osdmra lod --remesh: triangles: RMS / Hausdorff "
+        "(remesh and analysis + extraction) | meshoptimizer | CGAL Garland-Heckbert | RMS / "
+        "meshoptimizer's | RMS / CGAL's |\n|---|---:|---:|---:|---|---|---|---:|---:|\n");
+    try {
+      for (const std::string& in : inputs) compareScan(in, dist);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "osdmra_lod_compare: %s\n", e.what());
+      return 1;
+    }
+    return 0;
   }
   std::printf(
       "| input | method | budget | triangles | RMS | Hausdorff | to the limit surface: RMS / "

@@ -61,10 +61,10 @@ InputOptions inputOptions(const Args& args) {
   return o;
 }
 
-AnalysisOptions analysisOptions(const Args& args) {
+AnalysisOptions analysisOptions(const Args& args, const AnalysisDefaults& defaults) {
   AnalysisOptions o;
   o.levels = static_cast<int>(args.integer("levels", -1, 1, 15));
-  o.scheme = parseScheme(args.get("scheme", "loop"));
+  o.scheme = parseScheme(args.get("scheme", defaults.scheme));
   o.wavelets = waveletOptions(args);
   const std::string how = args.get("importance", "scaled");
   if (how != "scaled" && how != "plain")
@@ -72,7 +72,7 @@ AnalysisOptions analysisOptions(const Args& args) {
   o.approximation.importance = how == "plain" ? Importance::Plain : Importance::Scaled;
   o.approximation.saturate = !args.has("exact");
   o.approximation.selection = parseSelection(args.get("selection", "rd"));
-  o.approximation.placement = parsePlacement(args.get("placement", "surface"));
+  o.approximation.placement = parsePlacement(args.get("placement", defaults.placement));
   const std::string metric = args.get("metric", "domain");
   if (metric != "domain" && metric != "surface")
     throw Error("--metric must be domain or surface, got '" + metric + "'");
@@ -81,7 +81,11 @@ AnalysisOptions analysisOptions(const Args& args) {
 }
 
 LoadedSurface loadInput(const std::string& in, const Args& args, const Common& opt) {
-  LoadedSurface s = loadSurface(in, inputOptions(args), opt.progress);
+  return loadInput(in, inputOptions(args), opt);
+}
+
+LoadedSurface loadInput(const std::string& in, const InputOptions& input, const Common& opt) {
+  LoadedSurface s = loadSurface(in, input, opt.progress);
   if (s.remeshing)
     for (const std::string& w : s.remeshing->warnings)
       std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), withFlagNames(w).c_str());

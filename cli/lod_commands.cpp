@@ -100,18 +100,25 @@ int cmdLod(const Argv& argv) {
   const int modes = args.has("epsilon") + args.has("budget") + args.has("keep");
   if (modes != 1) throw Error("lod: give exactly one of --epsilon, --budget and --keep");
   meshFormatForWriting(out);  // refuse a bad output name before the work
-  const AnalysisOptions options = analysisOptions(args);
-  const LoadedSurface s = loadInput(in, args, opt);
+  const AnalysisOptions options = analysisOptions(args, kLodDefaults);
+  const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
+  InputOptions input = inputOptions(args);
+  // A base of the default size would be the coarsest level of detail there is: a
+  // small budget asks for a smaller one, unless --base-faces says otherwise.
+  if (input.remesh && budget > 0 && !args.has("base-faces"))
+    input.remeshing.baseFaces = baseFacesForBudget(budget, input.remeshing.baseFaces);
+  const LoadedSurface s = loadInput(in, input, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const Approximator& approx = a.approximator();
   const auto t0 = Clock::now();
-  const Approximation x = args.has("budget")
-                              ? approx.budget(args.integer("budget", 0, 1, 1LL << 40))
+  const Approximation x = budget > 0         ? approx.budget(budget)
                           : args.has("keep") ? approx.keepFraction(args.real("keep", 0, 0, 1))
                                              : approx.keepAbove(args.real("epsilon", 0, 0, 1e300));
   const double tExtract = seconds(t0);
   writeMesh(out, x.mesh);
-  const LodReport r = lodReport(a, x, tExtract, distanceOptions(args));
+  const LodReport r = lodReport(a, x, tExtract, distanceOptions(args), &s, budget);
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), w.c_str());
   if (opt.json) {
     Json j = startJson(s);
     std::cout << j.add("command", "lod")
@@ -135,6 +142,9 @@ int cmdLod(const Argv& argv) {
       "errors relative to the bounding-box diagonal: parametric L2 (RMS) %.3g, sampled "
       "RMS %.3g, Hausdorff %.3g\n",
       r.errors.l2RmsRelative, r.errors.rmsRelative, r.errors.hausdorffRelative);
+  if (r.toInput)
+    std::printf("to the input before remeshing: sampled RMS %.3g, Hausdorff %.3g\n",
+                r.toInput->rmsRelative, r.toInput->hausdorffRelative);
   std::printf("time: analysis %.3f s, extraction %.3f s\n", a.times().total(), tExtract);
   return 0;
 }
@@ -150,7 +160,7 @@ int cmdSweep(const Argv& argv) {
   const std::string in = args.positional()[0], csv = args.require("csv");
   const std::string plot = args.get("plot");
   const int points = static_cast<int>(args.integer("points", 24, 2, 1000));
-  const AnalysisOptions options = analysisOptions(args);
+  const AnalysisOptions options = analysisOptions(args, kSweepDefaults);
   const LoadedSurface s = loadInput(in, args, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const SweepTable t = sweepTable(a, points, distanceOptions(args), opt.progress);

@@ -42,20 +42,23 @@ commands:
                                crack-free adaptive mesh from the coefficients that
                                remove the most error per triangle added (rd, the
                                default; importance: the most important ones, as in
-                               the paper), on the truncated surface (Loop: limit
-                               positions and normals), with its errors; the
-                               coefficients of vertices the mesh has anyway are kept
-                               too (no extra triangle) unless --exact; --placement
-                               fit moves the vertices to the least-squares fit of
-                               the full surface (one sparse solve), closest then
-                               matches the two surfaces both ways (three rounds,
-                               about a second in all on 300,000 faces), levels
-                               does that once for each level's uniform mesh and
-                               looks the positions up (for the viewer and sweeps:
-                               re-extraction as fast as surface); --metric surface
-                               weighs importance by area on the surface, not on
-                               the base domain; --remesh as
-                               for analyze (its distance reported apart)
+                               the paper), with its errors; the coefficients of
+                               vertices the mesh has anyway are kept too (no extra
+                               triangle) unless --exact. Defaults: the polyhedral
+                               scheme (--scheme linear; loop: limit positions and
+                               normals) and --placement closest: the least-squares
+                               fit of the full surface, then the two surfaces
+                               matched both ways (three rounds, about a second on
+                               300,000 faces); surface: on the truncated surface
+                               (the paper; fastest), fit: the fit alone, levels:
+                               the matching made once per level and looked up
+                               (re-extraction as fast as surface: the viewer,
+                               sweep's default); --metric surface weighs importance
+                               by area on the surface, not on the base domain;
+                               --remesh as for analyze, over a base of half the
+                               budget (at most 300 faces) unless --base-faces says
+                               otherwise; the remeshing and the level of detail's
+                               distance to the input as given are reported apart
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F]
                                any manifold triangle mesh (any genus, boundaries) to
@@ -71,6 +74,7 @@ commands:
                                (default 0: all kept)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
+                               (lod's defaults but --placement levels)
   mask IN --level j --vertex i [--scheme loop|linear]
                                subdivision and inner-product masks around a vertex
                                of level j over the base mesh IN (paper, Fig. 4, 5)

@@ -108,8 +108,17 @@ Json levelsJson(const Hierarchy& h, const Decomposition& d) {
 }
 
 LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double extractSeconds,
-                    const DistanceOptions& distance) {
+                    const DistanceOptions& distance, const LoadedSurface* loaded,
+                    long long budget) {
   LodReport r;
+  const bool remeshed = loaded && loaded->remeshing;
+  if (remeshed) r.toInput = surfaceDistance(x.mesh, loaded->remeshing->input, distance);
+  if (budget >= 0 && x.triangles() > budget)
+    r.warnings.push_back(
+        "the base mesh has " + std::to_string(x.triangles()) + " triangles, more than the budget " +
+        std::to_string(budget) + ", and no level of detail is coarser" +
+        (remeshed ? " (the remesher kept more base faces than asked: see its warnings)"
+                  : " (remesh the surface with --remesh and fewer --base-faces)"));
   r.triangles = x.triangles();
   r.selected = x.selected;
   r.kept = x.kept;
@@ -120,16 +129,22 @@ LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double ext
 }
 
 Json lodJson(const LodReport& r) {
-  return Json::object()
-      .add("triangles", r.triangles)
+  Json j = Json::object();
+  j.add("triangles", r.triangles)
       .add("coefficients_selected", r.selected)
       .add("coefficients_kept", r.kept)
       .add("coefficients", r.total)
       .add("l2_error", r.errors.l2)
       .add("l2_rms_relative", r.errors.l2RmsRelative)
       .add("rms_relative", r.errors.rmsRelative)
-      .add("hausdorff_relative", r.errors.hausdorffRelative)
-      .add("extract_seconds", r.extractSeconds);
+      .add("hausdorff_relative", r.errors.hausdorffRelative);
+  if (r.toInput)
+    j.add("to_input", Json::object()
+                          .add("rms_relative", r.toInput->rmsRelative)
+                          .add("hausdorff_relative", r.toInput->hausdorffRelative));
+  Json warnings = Json::array();
+  for (const std::string& w : r.warnings) warnings.push(w);
+  return j.add("extract_seconds", r.extractSeconds).add("warnings", warnings);
 }
 
 }  // namespace osdmra::cli

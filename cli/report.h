@@ -2,7 +2,9 @@
 // one-line text summaries that several commands share.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "json.h"
 #include "osdmra/mesh/connectivity.h"
@@ -30,10 +32,17 @@ struct LodReport {
   int triangles = 0;
   long long selected = 0, kept = 0, total = 0;
   LodErrors errors;
+  /// With --remesh: the distances to the input as given (repaired), which a level of
+  /// detail made by another tool from the same file would be measured against.
+  std::optional<SurfaceDistance> toInput;
   double extractSeconds = 0;
+  std::vector<std::string> warnings;
 };
+/// With `loaded` (what `a` analyses) remeshed, also the distances to its input; with
+/// a budget, a warning when the mesh is over it.
 LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double extractSeconds,
-                    const DistanceOptions& distance);
+                    const DistanceOptions& distance, const LoadedSurface* loaded = nullptr,
+                    long long budget = -1);
 Json lodJson(const LodReport& r);
 
 }  // namespace osdmra::cli

@@ -1,5 +1,6 @@
 #include "osdmra/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -169,6 +170,10 @@ TriMesh readRemeshInput(const std::string& path, const InputOptions& options,
   return input;
 }
 
+int baseFacesForBudget(long long triangles, int baseFaces) {
+  return static_cast<int>(std::max<long long>(4, std::min<long long>(baseFaces, triangles / 2)));
+}
+
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
                           const Progress& progress) {
   const auto t0 = Clock::now();
@@ -179,8 +184,9 @@ LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
     s.mesh = readValidMesh(path);
   } else {
     RemeshReport r;
-    const TriMesh input = readRemeshInput(path, options, &r);
+    TriMesh input = readRemeshInput(path, options, &r);
     measureRemeshing(input, path, options, progress, r);
+    r.input = std::move(input);
     s.remeshing = std::move(r);
     s.mesh = s.remeshing->result.mesh;
   }

@@ -74,6 +74,9 @@ struct RemeshReport {
   int requestedBaseFaces = 0;
   Remeshing result;
   SurfaceDistance distance;  ///< between result.mesh and the input (the reference)
+  /// The input as repaired, the reference of `distance` (loadSurface keeps it, so that
+  /// what is made from the remeshing can be measured against what the user gave).
+  TriMesh input;
   /// Crossing pairs of the input itself (findSelfIntersections), counted only when the
   /// result has some (-1 otherwise): a surface that crosses itself, or touches itself
   /// at a split pinch, cannot be remeshed without.
@@ -115,6 +118,12 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
 /// How far a remeshing may be from its input before it is worth a warning, as a
 /// fraction of the input's bounding-box diagonal.
 constexpr double kFarRemeshing = 0.01;
+
+/// The base size to remesh with for a level of detail of at most `triangles`: half of
+/// them (the other half is the selection's to refine with, and a base somewhat larger
+/// than asked, which the remesher makes where features need it, still fits), at most
+/// `baseFaces` (the size asked for otherwise), at least 4.
+int baseFacesForBudget(long long triangles, int baseFaces);
 
 // ---- Analysis ----------------------------------------------------------------------
 

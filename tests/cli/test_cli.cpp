@@ -217,9 +217,10 @@ TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
     EXPECT_LE(m.F.rows(), 1500);
     EXPECT_GT(m.F.rows(), 1000);
   }
-  ASSERT_EQ(
-      run("lod " + path("g3.ply") + " --scheme linear --budget 1500 -o " + path("s.obj")).status,
-      0);
+  ASSERT_EQ(run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --placement surface -o " +
+                path("s.obj"))
+                .status,
+            0);
   ASSERT_EQ(run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --placement fit -o " +
                 path("f.obj"))
                 .status,
@@ -233,6 +234,34 @@ TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
     EXPECT_EQ(r.status, 1) << option;
     EXPECT_NE(r.err.find("must be"), std::string::npos) << r.err;
   }
+}
+
+// lod's defaults are the polyhedral scheme and the closest fit (kLodDefaults: the
+// closest levels of detail to the input mesh, docs/LOD.md); a budget below the base
+// mesh still gives the base, with a warning that says so.
+TEST_F(Cli, LodDefaultsAndABudgetBelowTheBase) {
+  ASSERT_NO_FATAL_FAILURE(makeSurface("genus2", "g.obj", "3 --displace 0.03", "g3.ply"));
+  const Result r =
+      run("lod " + path("g3.ply") + " --budget 1500 --samples 2000 --json -o " + path("d.obj"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"scheme\": \"linear\""), std::string::npos) << r.out;
+  ASSERT_EQ(run("lod " + path("g3.ply") + " --budget 1500 --scheme linear --placement closest -o " +
+                path("c.obj"))
+                .status,
+            0);
+  const TriMesh byDefault = readValidMesh(path("d.obj")), closest = readValidMesh(path("c.obj"));
+  EXPECT_EQ(byDefault.F, closest.F);
+  EXPECT_EQ(byDefault.V, closest.V);
+  const int baseFaces = static_cast<int>(readValidMesh(path("g.obj")).F.rows());
+  const Result under = run("lod " + path("g3.ply") + " --budget " + std::to_string(baseFaces - 1) +
+                           " --samples 2000 --json -o " + path("u.obj"));
+  ASSERT_EQ(under.status, 0) << under.err;
+  EXPECT_EQ(readValidMesh(path("u.obj")).F.rows(), baseFaces);
+  EXPECT_NE(under.err.find("warning: " + path("g3.ply") + ": the base mesh has " +
+                           std::to_string(baseFaces) + " triangles, more than the budget"),
+            std::string::npos)
+      << under.err;
+  EXPECT_NE(under.out.find("\"warnings\": [\"the base mesh has"), std::string::npos) << under.out;
 }
 
 TEST_F(Cli, SweepWritesCsvAndPlot) {
@@ -325,13 +354,24 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_TRUE(fs::exists(path("c.obj")));
   const TriMesh m = readValidMesh(path("r.ply"));
   EXPECT_EQ(m.F.rows() % 16, 0);
-  // lod through --remesh reports the remeshing apart.
+  // lod through --remesh reports the remeshing apart, and the level of detail's
+  // distances to the input as given.
   const Result lod = run("lod " + path("t3.obj") +
                          " --remesh --base-faces 100 --levels 2 --budget 600 --samples 2000 "
                          "--json -o " +
                          path("l.obj"));
   ASSERT_EQ(lod.status, 0) << lod.err;
   EXPECT_NE(lod.out.find("\"remesh\": {"), std::string::npos) << lod.out;
+  EXPECT_NE(lod.out.find("\"to_input\": {\"rms_relative\": "), std::string::npos) << lod.out;
+  // Without --base-faces, a small budget remeshes over a base of half of it, so that
+  // the budget can be met: a base of the default 300 faces could not.
+  const Result small =
+      run("lod " + path("t3.obj") + " --remesh --levels 2 --budget 100 --samples 2000 --json -o " +
+          path("l.obj"));
+  ASSERT_EQ(small.status, 0) << small.err;
+  EXPECT_NE(small.out.find("\"base_faces\": 50,"), std::string::npos) << small.out;
+  EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 100);
+  EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
   // So does the demo, on any mesh.
   const Result demo =
       run("demo " + path("t3.obj") +

@@ -312,6 +312,34 @@ TEST(LoadSurface, RemeshesAnyManifoldMesh) {
             1e-12 * boundingBoxDiagonal(s.mesh.V));
 }
 
+TEST(BaseFacesForBudget, HalfTheBudgetWithinTheAskedSizeAndAtLeastATetrahedron) {
+  EXPECT_EQ(baseFacesForBudget(100, 300), 50);
+  EXPECT_EQ(baseFacesForBudget(101, 300), 50);
+  EXPECT_EQ(baseFacesForBudget(600, 300), 300);
+  EXPECT_EQ(baseFacesForBudget(1LL << 40, 300), 300);
+  EXPECT_EQ(baseFacesForBudget(5, 300), 4);
+  EXPECT_EQ(baseFacesForBudget(1, 300), 4);
+}
+
+// The input as repaired stays with the remeshing: what is made from the remeshing (a
+// level of detail) can be measured against what the user gave.
+TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
+  const TriMesh input = shapes::torus(27, 13);
+  TempDir dir;
+  const std::string path = dir.file("torus.ply");
+  writeMesh(path, input);
+  InputOptions o;
+  o.remesh = true;
+  o.remeshing.baseFaces = 40;
+  o.remeshing.levels = 2;
+  o.distance.samples = 2000;
+  const LoadedSurface s = loadSurface(path, o);
+  ASSERT_TRUE(s.remeshing.has_value());
+  EXPECT_EQ(s.remeshing->input.F, input.F);
+  EXPECT_EQ(s.remeshing->input.V, input.V);  // binary PLY is exact
+  EXPECT_NE(s.mesh.F.rows(), input.F.rows());
+}
+
 TEST(LoadSurface, MendsZeroAreaFacesBeforeRemeshing) {
   // A cube as CAD exports write it, each side fanned from a point of its first edge:
   // 12 zero-area caps, and every vertex on a sharp edge. Mended (removeZeroAreaFaces),
