@@ -113,12 +113,19 @@ LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double ext
   LodReport r;
   const bool remeshed = loaded && loaded->remeshing;
   if (remeshed) r.toInput = surfaceDistance(x.mesh, loaded->remeshing->input, distance);
-  if (budget >= 0 && x.triangles() > budget)
-    r.warnings.push_back(
-        "the base mesh has " + std::to_string(x.triangles()) + " triangles, more than the budget " +
-        std::to_string(budget) + ", and no level of detail is coarser" +
-        (remeshed ? " (the remesher kept more base faces than asked: see its warnings)"
-                  : " (remesh the surface with --remesh and fewer --base-faces)"));
+  if (budget >= 0 && x.triangles() > budget) {
+    std::string why = " (remesh the surface with --remesh and fewer --base-faces)";
+    if (remeshed) {
+      const RemeshReport& rr = *loaded->remeshing;
+      why = rr.result.base.F.rows() > rr.requestedBaseFaces
+                ? " (the remesher kept more base faces than the " +
+                      std::to_string(rr.requestedBaseFaces) + " asked for: see its warnings)"
+                : " (ask for fewer --base-faces)";
+    }
+    r.warnings.push_back("the base mesh has " + std::to_string(x.triangles()) +
+                         " triangles, more than the budget " + std::to_string(budget) +
+                         ", and no level of detail is coarser" + why);
+  }
   r.triangles = x.triangles();
   r.selected = x.selected;
   r.kept = x.kept;

@@ -372,6 +372,17 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("\"base_faces\": 50,"), std::string::npos) << small.out;
   EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 100);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
+  // A torus cannot be remeshed over the 4 faces half of a budget of 8 asks for: the
+  // level of detail is the base the remesher made, over the budget, and a warning says
+  // why.
+  const Result tiny = run("lod " + path("t3.obj") +
+                          " --remesh --levels 1 --budget 8 --samples 500 -o " + path("l.obj"));
+  ASSERT_EQ(tiny.status, 0) << tiny.err;
+  EXPECT_GT(readValidMesh(path("l.obj")).F.rows(), 8);
+  EXPECT_NE(tiny.err.find("more than the budget 8, and no level of detail is coarser (the "
+                          "remesher kept more base faces than the 4 asked for"),
+            std::string::npos)
+      << tiny.err;
   // So does the demo, on any mesh.
   const Result demo =
       run("demo " + path("t3.obj") +
