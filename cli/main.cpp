@@ -48,7 +48,7 @@ commands:
                                scheme (--scheme linear; loop: limit positions and
                                normals) and --placement closest: the least-squares
                                fit of the full surface, then the two surfaces
-                               matched both ways (three rounds, about a second on
+                               matched both ways (eight rounds, a few seconds on
                                300,000 faces); surface: on the truncated surface
                                (the paper; fastest), fit: the fit alone, levels:
                                the matching made once per level and looked up

@@ -60,7 +60,7 @@ for line in open(sys.argv[1]):
         continue
     inp, method, budget, tris, rms, haus = c[0], c[1], int(c[2]), int(c[3]), float(c[4]), float(c[5])
     rows.setdefault((inp, budget), {})[method] = (tris, rms, haus)
-print("| input | budget | paper (linear, importance, surface) | default (linear, rd, surface) | levels (linear, rd, levels) | best osdmra | meshoptimizer | CGAL GH | levels / meshopt | best / meshopt | best / CGAL |")
+print("| input | budget | paper (linear, importance, surface) | library default (linear, rd, surface) | levels (linear, rd, levels) | best osdmra (lod's default: linear rd closest) | meshoptimizer | CGAL GH | levels / meshopt | best / meshopt | best / CGAL |")
 print("|---|---:|---|---|---|---|---|---|---:|---:|---:|")
 fmt = lambda t: f"{t[1]:.2e} / {t[2]:.2e}"
 for (inp, budget), m in rows.items():
