@@ -330,12 +330,12 @@ Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const TriMesh
     }
     const Eigen::Vector3d normal = m.fullNormal.row(i).transpose();
     if (!normal.allFinite()) continue;  // a degenerate face of the full surface
-    // Across the plane: onto it; along it: weight w towards where the point is.
     if (m.toFullBoundary[i]) {
       equations.add(corners, weights, count, Eigen::Matrix3d::Identity(),
                     m.toFull.row(i).transpose());
       continue;
     }
+    // Across the plane: onto it; along it: weight w towards where the point is.
     const Eigen::Matrix3d across = normal * normal.transpose();
     const Eigen::Matrix3d along = Eigen::Matrix3d::Identity() - across;
     equations.add(corners, weights, count, across + w * along,
