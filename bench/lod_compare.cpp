@@ -213,8 +213,9 @@ void compare(const std::string& path, const std::vector<long long>& given,
   }
 }
 
-// A scan as a user gives it to `osdmra lod SCAN --remesh --budget B`: remeshed (J = 5)
-// over the base size lod picks for the budget (baseFacesForBudget), analysed and cut
+// A scan as a user gives it to `osdmra lod SCAN --remesh --budget B`: remeshed over the
+// base size and levels lod picks for the budget (baseFacesForBudget, levelsForBase),
+// analysed and cut
 // with lod's defaults (polyhedral, rate-distortion selection, closest placement:
 // kLodDefaults in cli/common.h); the peers simplify the scan itself; every mesh is
 // measured against the scan. Budgets: 1%, 3% and 10% of the scan's triangles. One
@@ -228,7 +229,8 @@ void compareScan(const std::string& path, const DistanceOptions& dist) {
   const int faces = static_cast<int>(scan.F.rows());
   for (double p : {0.01, 0.03, 0.10}) {
     const long long b = std::llround(p * faces);
-    io.remeshing.baseFaces = baseFacesForBudget(b, RemeshOptions{}.baseFaces);
+    io.remeshing.baseFaces = baseFacesForBudget(b);
+    io.remeshing.levels = levelsForBase(io.remeshing.baseFaces, RemeshOptions{}.levels);
     const auto t0 = Clock::now();
     const LoadedSurface s = loadSurface(path, io);
     AnalysisOptions ao;

@@ -103,10 +103,14 @@ int cmdLod(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   InputOptions input = inputOptions(args);
-  // A base of the default size would be the coarsest level of detail there is: a
-  // small budget asks for a smaller one, unless --base-faces says otherwise.
-  if (input.remesh && budget > 0 && !args.has("base-faces"))
-    input.remeshing.baseFaces = baseFacesForBudget(budget, input.remeshing.baseFaces);
+  // The base grows with the budget (a base of the default size would be the coarsest
+  // level of detail there is, and too coarse a layout for a large one), unless
+  // --base-faces says otherwise; the levels keep the remeshing's size, unless --levels.
+  if (input.remesh && budget > 0 && !args.has("base-faces")) {
+    input.remeshing.baseFaces = baseFacesForBudget(budget);
+    if (!args.has("levels"))
+      input.remeshing.levels = levelsForBase(input.remeshing.baseFaces, input.remeshing.levels);
+  }
   const LoadedSurface s = loadInput(in, input, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const Approximator& approx = a.approximator();

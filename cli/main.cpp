@@ -55,10 +55,12 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, over a base of half the
-                               budget (at most 300 faces) unless --base-faces says
-                               otherwise; the remeshing and the level of detail's
-                               distance to the input as given are reported apart
+                               --remesh as for analyze, over a base of a quarter
+                               of the budget unless --base-faces says otherwise
+                               (and as many levels, up to 5, as keep the remeshing
+                               within 2^19 faces, unless --levels); the remeshing
+                               and the level of detail's distance to the input as
+                               given are reported apart
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F]
                                any manifold triangle mesh (any genus, boundaries) to

@@ -170,8 +170,16 @@ TriMesh readRemeshInput(const std::string& path, const InputOptions& options,
   return input;
 }
 
-int baseFacesForBudget(long long triangles, int baseFaces) {
-  return static_cast<int>(std::max<long long>(4, std::min<long long>(baseFaces, triangles / 2)));
+int baseFacesForBudget(long long triangles) {
+  return static_cast<int>(std::clamp<long long>(triangles / 4, 4, 1 << 24));
+}
+
+int levelsForBase(int baseFaces, int maxLevels) {
+  int levels = 2;
+  while (levels < maxLevels &&
+         (static_cast<long long>(baseFaces) << (2 * (levels + 1))) <= (1 << 19))
+    ++levels;
+  return levels;
 }
 
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options,

@@ -119,11 +119,19 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
 /// fraction of the input's bounding-box diagonal.
 constexpr double kFarRemeshing = 0.01;
 
-/// The base size to remesh with for a level of detail of at most `triangles`: half of
-/// them (the other half is the selection's to refine with, and a base somewhat larger
-/// than asked, which the remesher makes where features need it, still fits), at most
-/// `baseFaces` (the size asked for otherwise), at least 4.
-int baseFacesForBudget(long long triangles, int baseFaces);
+/// The base size to remesh with for a level of detail of at most `triangles`: a
+/// quarter of them, at least 4. The base is where the remesher's simplification puts
+/// its vertices where the surface needs them, and the level of detail refines it
+/// isotropically, so the base should grow with the budget: on the bunny at 2,084 and
+/// 6,945 triangles a base of a quarter gave 0.75x the RMS of the 300-face default,
+/// on armadillo at 8,648 0.73x (docs/LOD.md); a quarter leaves room for a base somewhat
+/// larger than asked, which the remesher makes where features need it.
+int baseFacesForBudget(long long triangles);
+
+/// The subdivision levels to remesh a base of `baseFaces` with: the most, up to
+/// `maxLevels`, that keep the remeshing within 2^19 faces (at least 2), as the
+/// default 5 over 300 faces does (307,200 faces).
+int levelsForBase(int baseFaces, int maxLevels);
 
 // ---- Analysis ----------------------------------------------------------------------
 

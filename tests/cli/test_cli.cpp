@@ -363,16 +363,21 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   ASSERT_EQ(lod.status, 0) << lod.err;
   EXPECT_NE(lod.out.find("\"remesh\": {"), std::string::npos) << lod.out;
   EXPECT_NE(lod.out.find("\"to_input\": {\"rms_relative\": "), std::string::npos) << lod.out;
-  // Without --base-faces, a small budget remeshes over a base of half of it, so that
-  // the budget can be met: a base of the default 300 faces could not.
+  // Without --base-faces, a budget remeshes over a base of a quarter of it, so that a
+  // small budget can be met: a base of the default 300 faces could not.
   const Result small =
-      run("lod " + path("t3.obj") + " --remesh --levels 2 --budget 100 --samples 2000 --json -o " +
+      run("lod " + path("t3.obj") + " --remesh --levels 2 --budget 200 --samples 2000 --json -o " +
           path("l.obj"));
   ASSERT_EQ(small.status, 0) << small.err;
   EXPECT_NE(small.out.find("\"base_faces\": 50,"), std::string::npos) << small.out;
-  EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 100);
+  EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 200);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
-  // A torus cannot be remeshed over the 4 faces half of a budget of 8 asks for: the
+  // Without --levels too, the levels keep the remeshing within 2^19 faces: 5 over 50.
+  const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --samples 500 " +
+                            "--json -o " + path("l.obj"));
+  ASSERT_EQ(levels.status, 0) << levels.err;
+  EXPECT_NE(levels.out.find("\"faces\": 51200,"), std::string::npos) << levels.out;
+  // A torus cannot be remeshed over the 4 faces a budget of 8 asks for: the
   // level of detail is the base the remesher made, over the budget, and a warning says
   // why.
   const Result tiny = run("lod " + path("t3.obj") +

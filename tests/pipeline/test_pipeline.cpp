@@ -312,13 +312,26 @@ TEST(LoadSurface, RemeshesAnyManifoldMesh) {
             1e-12 * boundingBoxDiagonal(s.mesh.V));
 }
 
-TEST(BaseFacesForBudget, HalfTheBudgetWithinTheAskedSizeAndAtLeastATetrahedron) {
-  EXPECT_EQ(baseFacesForBudget(100, 300), 50);
-  EXPECT_EQ(baseFacesForBudget(101, 300), 50);
-  EXPECT_EQ(baseFacesForBudget(600, 300), 300);
-  EXPECT_EQ(baseFacesForBudget(1LL << 40, 300), 300);
-  EXPECT_EQ(baseFacesForBudget(5, 300), 4);
-  EXPECT_EQ(baseFacesForBudget(1, 300), 4);
+TEST(BaseFacesForBudget, AQuarterOfTheBudgetAndAtLeastATetrahedron) {
+  EXPECT_EQ(baseFacesForBudget(100), 25);
+  EXPECT_EQ(baseFacesForBudget(103), 25);
+  EXPECT_EQ(baseFacesForBudget(8648), 2162);
+  EXPECT_EQ(baseFacesForBudget(15), 4);
+  EXPECT_EQ(baseFacesForBudget(1), 4);
+  EXPECT_EQ(baseFacesForBudget(1LL << 40), 1 << 24);
+}
+
+// As many levels as keep the remeshing within 2^19 faces, at most the maximum, at
+// least 2: the default 5 over 300 faces (307,200), 4 over 1,000 (256,000).
+TEST(LevelsForBase, TheRemeshingStaysWithin2To19Faces) {
+  EXPECT_EQ(levelsForBase(300, 5), 5);
+  EXPECT_EQ(levelsForBase(512, 5), 5);  // exactly 2^19
+  EXPECT_EQ(levelsForBase(513, 5), 4);
+  EXPECT_EQ(levelsForBase(1000, 5), 4);
+  EXPECT_EQ(levelsForBase(2162, 5), 3);
+  EXPECT_EQ(levelsForBase(4, 5), 5);
+  EXPECT_EQ(levelsForBase(4, 3), 3);
+  EXPECT_EQ(levelsForBase(1 << 20, 5), 2);
 }
 
 // The input as repaired stays with the remeshing: what is made from the remeshing (a
