@@ -232,11 +232,11 @@ void compareScan(const std::string& path, const DistanceOptions& dist) {
     io.remeshing.baseFaces = baseFacesForBudget(b);
     io.remeshing.levels = levelsForBase(io.remeshing.baseFaces, RemeshOptions{}.levels);
     const auto t0 = Clock::now();
-    const LoadedSurface s = loadSurface(path, io);
+    const RemeshReport r = remeshMeasured(scan, path, io);  // the scan read once, above
     AnalysisOptions ao;
     ao.scheme = Scheme::Linear;
     ao.approximation.placement = Placement::Closest;
-    const AnalysedSurface a(s.mesh, ao, path);
+    const AnalysedSurface a(r.result.mesh, ao, path);
     a.approximator().triangleCounts();
     const double prepare = secondsSince(t0);
     const auto t1 = Clock::now();
@@ -258,7 +258,7 @@ void compareScan(const std::string& path, const DistanceOptions& dist) {
     std::printf(
         "| %s | %d | %lld | %d | %d: %.2e / %.2e (%.1f + %.2f s) | %d: %.2e / %.2e (%.2f s) "
         "| %s | %.2f | %s |\n",
-        name.c_str(), faces, b, static_cast<int>(s.remeshing->result.base.F.rows()), x.triangles(),
+        name.c_str(), faces, b, static_cast<int>(r.result.base.F.rows()), x.triangles(),
         ours.rmsRelative, ours.hausdorffRelative, prepare, extract, static_cast<int>(m.F.rows()),
         mo.rmsRelative, mo.hausdorffRelative, mSeconds, cgal, ours.rmsRelative / mo.rmsRelative,
         ratioCgal);

@@ -85,17 +85,20 @@ PY
 cat "$out/summary.md"
 
 if [[ "${1:-}" == "--update-docs" ]]; then
-  python3 - docs/LOD.md "$out/summary.md" "$out/full.md" "$(date -u '+%Y-%m-%d %H:%M UTC')" <<'PY'
-import sys
-doc, summary, full, when = sys.argv[1], open(sys.argv[2]).read(), open(sys.argv[3]).read(), sys.argv[4]
-text = open(doc).read()
-begin, end = "<!-- lod-compare begin -->", "<!-- lod-compare end -->"
-a, b = text.index(begin) + len(begin), text.index(end)
-body = (f"\n\n`scripts/lod_compare.sh --update-docs`, {when}. RMS / Hausdorff: sampled symmetric "
-        "distances to the input mesh, relative to its bounding-box diagonal.\n\n" + summary +
-        "\nEvery row (ms: one extraction or simplification; Loop rows also give the "
-        "distance to the input's limit surface, which Loop levels of detail approximate):\n\n"
-        "<details><summary>full table</summary>\n\n" + full + "\n</details>\n\n")
-open(doc, "w").write(text[:a] + body + text[b:])
-PY
+  {
+    echo "\`scripts/lod_compare.sh --update-docs\`, $(date -u '+%Y-%m-%d %H:%M UTC'). RMS /" \
+      "Hausdorff: sampled symmetric distances to the input mesh, relative to its" \
+      "bounding-box diagonal."
+    echo
+    cat "$out/summary.md"
+    echo
+    echo "Every row (ms: one extraction or simplification; Loop rows also give the" \
+      "distance to the input's limit surface, which Loop levels of detail approximate):"
+    echo
+    echo "<details><summary>full table</summary>"
+    echo
+    cat "$out/full.md"
+    echo
+    echo "</details>"
+  } | python3 scripts/doc_section.py docs/LOD.md lod-compare
 fi

@@ -60,16 +60,14 @@ PY
 cat "$out/summary.md"
 
 if [[ "${1:-}" == "--update-docs" ]]; then
-  python3 - docs/LOD.md "$out/summary.md" "$out/table.md" "$(date -u '+%Y-%m-%d %H:%M UTC')" <<'PY'
-import sys
-doc, summary, table, when = sys.argv[1], open(sys.argv[2]).read(), open(sys.argv[3]).read(), sys.argv[4]
-text = open(doc).read()
-begin, end = "<!-- lod-scans begin -->", "<!-- lod-scans end -->"
-a, b = text.index(begin) + len(begin), text.index(end)
-body = (f"\n\n`scripts/lod_scans.sh --update-docs`, {when}. RMS / Hausdorff: sampled "
-        "symmetric distances to the scan (100,000 samples a side plus the vertices, seed 1), "
-        "relative to its bounding-box diagonal; osdmra's times are the remeshing and analysis, "
-        "then the extraction.\n\n" + summary + "\n" + table + "\n")
-open(doc, "w").write(text[:a] + body + text[b:])
-PY
+  {
+    echo "\`scripts/lod_scans.sh --update-docs\`, $(date -u '+%Y-%m-%d %H:%M UTC'). RMS /" \
+      "Hausdorff: sampled symmetric distances to the scan (100,000 samples a side plus the" \
+      "vertices, seed 1), relative to its bounding-box diagonal; osdmra's times are the" \
+      "remeshing and analysis, then the extraction."
+    echo
+    cat "$out/summary.md"
+    echo
+    cat "$out/table.md"
+  } | python3 scripts/doc_section.py docs/LOD.md lod-scans
 fi

@@ -27,7 +27,7 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
   full_.F = h.faces(h.levels());
   full_.V = positions(fullControls_, &full_.N);
   if (options.placement == Placement::Closest || options.placement == Placement::Levels)
-    fullBvh_ = std::make_unique<TriangleBvh>(full_);
+    closestTarget_ = std::make_unique<ClosestTarget>(full_);
   levelFits_.resize(d.levels);
   levelOnce_ = std::make_unique<std::once_flag[]>(static_cast<std::size_t>(d.levels));
 }
@@ -50,7 +50,7 @@ const Points& Approximator::levelFit(int j) const {
     const SparseMatrix L = lodInterpolation(h, lod);
     const Points fit = fitPositions(L, full_.V, start, options_.fit);
     const Points closest =
-        fitToClosestPoints(L, lod.compactFaces, full_, *fullBvh_, fit, options_.fit);
+        fitToClosestPoints(L, lod.compactFaces, *closestTarget_, fit, options_.fit);
     levelFits_[j] = Points::Zero(h.numVertices(j), 3);
     for (std::size_t i = 0; i < lod.vertices.size(); ++i)
       levelFits_[j].row(lod.vertices[i]) = closest.row(static_cast<Eigen::Index>(i));
@@ -142,7 +142,7 @@ Approximation Approximator::make(const KeepMask& selection) const {
     const SparseMatrix L = lodInterpolation(*bank_.hierarchy, a.lod);
     a.mesh.V = fitPositions(L, full_.V, a.mesh.V, options_.fit);
     if (options_.placement == Placement::Closest)
-      a.mesh.V = fitToClosestPoints(L, a.mesh.F, full_, *fullBvh_, a.mesh.V, options_.fit);
+      a.mesh.V = fitToClosestPoints(L, a.mesh.F, *closestTarget_, a.mesh.V, options_.fit);
   }
   return a;
 }

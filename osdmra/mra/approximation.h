@@ -107,8 +107,8 @@ class Approximator {
   std::unique_ptr<Hierarchy::LimitStencils> limit_;
   Points fullControls_;  // c^J
   TriMesh full_;
-  std::unique_ptr<TriangleBvh> fullBvh_;   ///< over full_, for Closest and Levels
-  mutable std::vector<Points> levelFits_;  ///< Levels: per level j < J, n_j x 3
+  std::unique_ptr<ClosestTarget> closestTarget_;  ///< full_, for Closest and Levels
+  mutable std::vector<Points> levelFits_;         ///< Levels: per level j < J, n_j x 3
   mutable std::unique_ptr<std::once_flag[]> levelOnce_;
   mutable std::once_flag countsOnce_;
   mutable std::vector<long long> counts_;

@@ -267,13 +267,10 @@ struct Matches {
   double squaredDistance = 0;  // summed over both: what the rounds lower
 };
 
-// The boundary halfedges of both surfaces (boundaryHalfedges), found once per fit.
-struct Boundaries {
-  std::vector<char> lod, full;
-};
-
-Matches match(const Points& at, const TriMesh& lod, const TriMesh& full, const TriangleBvh& bvh,
-              const Boundaries& boundaries) {
+// `lodBoundary`: the level of detail's boundaryHalfedges, the same in every round.
+Matches match(const Points& at, const TriMesh& lod, const std::vector<char>& lodBoundary,
+              const ClosestTarget& target) {
+  const TriMesh& full = target.mesh;
   Matches m{Points(at.rows(), 3),
             Points(at.rows(), 3),
             std::vector<char>(at.rows()),
@@ -285,10 +282,10 @@ Matches match(const Points& at, const TriMesh& lod, const TriMesh& full, const T
   const int n = static_cast<int>(at.rows());
   forChunks(n, numChunks(n, 1 << 12), [&](int, int begin, int end) {
     for (int i = begin; i < end; ++i) {
-      const ClosestPoint c = bvh.closestPoint(at.row(i).transpose());
+      const ClosestPoint c = target.bvh.closestPoint(at.row(i).transpose());
       m.toFull.row(i) = c.point.transpose();
       m.fullNormal.row(i) = faceNormal(full, c.face).normalized().transpose();
-      m.toFullBoundary[i] = onBoundary(full, boundaries.full, c);
+      m.toFullBoundary[i] = onBoundary(full, target.boundary, c);
       forward(i) = c.distance * c.distance;
     }
   });
@@ -302,7 +299,7 @@ Matches match(const Points& at, const TriMesh& lod, const TriMesh& full, const T
       m.lodFace[v] = c.face;
       m.lodBary[v] = bary;
       m.lodNormal.row(v) = faceNormal(lod, c.face).normalized().transpose();
-      m.lodBoundary[v] = onBoundary(lod, boundaries.lod, c);
+      m.lodBoundary[v] = onBoundary(lod, lodBoundary, c);
       backward(v) = c.distance * c.distance;
     }
   });
@@ -386,27 +383,29 @@ Points stepWithoutFolds(const Faces& F, const Points& reference, const Points& x
 
 }  // namespace
 
-Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const TriMesh& full,
-                          const TriangleBvh& bvh, const Points& start, const FitOptions& options) {
+ClosestTarget::ClosestTarget(const TriMesh& m)
+    : mesh(m), bvh(m), boundary(boundaryHalfedges(m.F, static_cast<int>(m.V.rows()))) {}
+
+Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const ClosestTarget& target,
+                          const Points& start, const FitOptions& options) {
   if (start.rows() != L.cols() || (faces.size() > 0 && faces.maxCoeff() >= start.rows()))
     throw Error("fitToClosestPoints: " + std::to_string(L.rows()) + " x " +
                 std::to_string(L.cols()) + " interpolation, " + std::to_string(start.rows()) +
                 " starting points, faces up to vertex " +
                 std::to_string(faces.size() > 0 ? faces.maxCoeff() : -1));
   const Points reference = faceNormals(faces, start);
-  const Boundaries boundaries{boundaryHalfedges(faces, static_cast<int>(start.rows())),
-                              boundaryHalfedges(full.F, static_cast<int>(full.V.rows()))};
+  const std::vector<char> lodBoundary = boundaryHalfedges(faces, static_cast<int>(start.rows()));
   auto matchAt = [&](const Points& X) {
     TriMesh lod;
     lod.V = X;
     lod.F = faces;
-    return match(L * X, lod, full, bvh, boundaries);
+    return match(L * X, lod, lodBoundary, target);
   };
   Points x = start;
   Matches m = matchAt(x);
   for (int round = 0; round < options.closestRounds; ++round) {
-    const Points next = stepWithoutFolds(faces, reference, x,
-                                         pointToPlaneStep(L, faces, full, L * x, m, x, options));
+    const Points next = stepWithoutFolds(
+        faces, reference, x, pointToPlaneStep(L, faces, target.mesh, L * x, m, x, options));
     // A Gauss-Newton step can overshoot where matches jump (a rough surface): a round
     // that does not bring the two surfaces closer ends the rounds.
     Matches nextMatches = matchAt(next);

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "osdmra/geometry/distance.h"
 #include "osdmra/mra/lod.h"
@@ -85,11 +86,20 @@ struct FitOptions {
 Points fitPositions(const SparseMatrix& L, const Points& target, const Points& start,
                     const FitOptions& options = {});
 
+/// The surface Placement::Closest matches levels of detail to, with what every fit to
+/// it reuses: its triangle hierarchy, and which of its halfedges (3f + k, from corner k
+/// to corner k + 1 of face f) lie on its boundary. `mesh` must outlive it.
+struct ClosestTarget {
+  explicit ClosestTarget(const TriMesh& mesh);
+  const TriMesh& mesh;
+  TriangleBvh bvh;
+  std::vector<char> boundary;
+};
+
 /// Placement::Closest's rounds from `start` (the fit's positions) for the level of
-/// detail with faces `faces` (indices of L's columns): see the file comment. `bvh` is
-/// built over `full`. Throws Error on mismatched sizes.
-Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const TriMesh& full,
-                          const TriangleBvh& bvh, const Points& start,
-                          const FitOptions& options = {});
+/// detail with faces `faces` (indices of L's columns) towards `target`: see the file
+/// comment. Throws Error on mismatched sizes.
+Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const ClosestTarget& target,
+                          const Points& start, const FitOptions& options = {});
 
 }  // namespace osdmra

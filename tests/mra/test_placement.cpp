@@ -142,7 +142,7 @@ TEST(Placement, ClosestPutsTheLevelOfDetailOnAPlane) {
   TriMesh full;
   full.F = h.faces(J);
   full.V = subdivide(base, J, Scheme::Linear).V;  // canonical order, as h
-  const TriangleBvh bvh(full);
+  const ClosestTarget target(full);
   Points start = gather(full.V, lod.vertices);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.02, 0.02);
@@ -150,7 +150,7 @@ TEST(Placement, ClosestPutsTheLevelOfDetailOnAPlane) {
   FitOptions o;
   o.iterations = 500;
   o.tolerance = 1e-14;
-  const Points x = fitToClosestPoints(L, lod.compactFaces, full, bvh, start, o);
+  const Points x = fitToClosestPoints(L, lod.compactFaces, target, start, o);
   EXPECT_LT(x.col(2).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((x.leftCols(2) - start.leftCols(2)).cwiseAbs().maxCoeff(), 0.02);
   EXPECT_EQ(parsePlacement("closest"), Placement::Closest);
@@ -171,7 +171,8 @@ TEST(Placement, ClosestBringsTheRimBackOntoAnOpenSurface) {
   TriMesh full;
   full.F = h.faces(J);
   full.V = subdivide(base, J, Scheme::Linear).V;
-  const TriangleBvh bvh(full);
+  const ClosestTarget target(full);
+  const TriangleBvh& bvh = target.bvh;
   const Connectivity c(full.F, static_cast<int>(full.V.rows()));
   KeepMask keep(J);
   for (int j = 0; j < J; ++j) keep[j].assign(h.numVertices(j + 1) - h.numVertices(j), j < 1);
@@ -191,7 +192,7 @@ TEST(Placement, ClosestBringsTheRimBackOntoAnOpenSurface) {
       d = std::max(d, bvh.closestPoint(X.row(v).transpose()).distance);
     return d;
   };
-  const Points x = fitToClosestPoints(L, lod.compactFaces, full, bvh, start);
+  const Points x = fitToClosestPoints(L, lod.compactFaces, target, start);
   EXPECT_LT(farthest(x), 0.2 * farthest(start));
   EXPECT_LT(x.col(2).cwiseAbs().maxCoeff(), 1e-9);  // and stays in the plane
 }
