@@ -86,10 +86,13 @@ LoadedSurface loadInput(const std::string& in, const Args& args, const Common& o
 
 LoadedSurface loadInput(const std::string& in, const InputOptions& input, const Common& opt) {
   LoadedSurface s = loadSurface(in, input, opt.progress);
-  if (s.remeshing)
-    for (const std::string& w : s.remeshing->warnings)
-      std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), withFlagNames(w).c_str());
+  if (s.remeshing) printRemeshWarnings(in, *s.remeshing);
   return s;
+}
+
+void printRemeshWarnings(const std::string& in, const RemeshReport& r) {
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), withFlagNames(w).c_str());
 }
 
 }  // namespace osdmra::cli

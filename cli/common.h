@@ -53,5 +53,7 @@ AnalysisOptions analysisOptions(const Args& args, const AnalysisDefaults& defaul
 LoadedSurface loadInput(const std::string& in, const Args& args, const Common& opt);
 /// The same with input options the command has adjusted.
 LoadedSurface loadInput(const std::string& in, const InputOptions& input, const Common& opt);
+/// A remeshing's warnings on stderr, with the library's option names as the CLI's flags.
+void printRemeshWarnings(const std::string& in, const RemeshReport& r);
 
 }  // namespace osdmra::cli

@@ -103,22 +103,33 @@ int cmdLod(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   InputOptions input = inputOptions(args);
-  // The base grows with the budget (a base of the default size would be the coarsest
-  // level of detail there is, and too coarse a layout for a large one), unless
-  // --base-faces says otherwise; the levels keep the remeshing's size, unless --levels.
+  // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
+  // remeshes over a quarter and a sixteenth of the budget and keeps the closer level
+  // of detail, unless --base-faces fixes the base (and --levels the levels).
+  std::optional<BudgetLod> searched;
+  std::optional<LoadedSurface> loaded;
+  std::optional<AnalysedSurface> analysed;
+  Approximation x;
+  double tExtract = 0;
   if (input.remesh && budget > 0 && !args.has("base-faces")) {
-    input.remeshing.baseFaces = baseFacesForBudget(budget);
-    if (!args.has("levels"))
-      input.remeshing.levels = levelsForBase(input.remeshing.baseFaces, input.remeshing.levels);
+    BudgetSearchOptions search;
+    search.levelsForEachBase = !args.has("levels");
+    searched = lodForBudget(in, budget, input, options, search, opt.progress);
+    printRemeshWarnings(in, *searched->surface.remeshing);
+    x = std::move(searched->lod);
+    tExtract = searched->extractSeconds;
+  } else {
+    loaded = loadInput(in, input, opt);
+    analysed.emplace(loaded->mesh, options, in, opt.progress);
+    const Approximator& approx = analysed->approximator();
+    const auto t0 = Clock::now();
+    x = budget > 0         ? approx.budget(budget)
+        : args.has("keep") ? approx.keepFraction(args.real("keep", 0, 0, 1))
+                           : approx.keepAbove(args.real("epsilon", 0, 0, 1e300));
+    tExtract = seconds(t0);
   }
-  const LoadedSurface s = loadInput(in, input, opt);
-  const AnalysedSurface a(s.mesh, options, in, opt.progress);
-  const Approximator& approx = a.approximator();
-  const auto t0 = Clock::now();
-  const Approximation x = budget > 0         ? approx.budget(budget)
-                          : args.has("keep") ? approx.keepFraction(args.real("keep", 0, 0, 1))
-                                             : approx.keepAbove(args.real("epsilon", 0, 0, 1e300));
-  const double tExtract = seconds(t0);
+  const LoadedSurface& s = searched ? searched->surface : *loaded;
+  const AnalysedSurface& a = searched ? *searched->analysed : *analysed;
   writeMesh(out, x.mesh);
   const LodReport r = lodReport(a, x, tExtract, distanceOptions(args), &s, budget);
   for (const std::string& w : r.warnings)
@@ -134,11 +145,13 @@ int cmdLod(const Argv& argv) {
                      .add("input_triangles", a.hierarchy().numFaces(a.levels()))
                      .add("analysis_seconds", a.times().total())
                      .add("lod", lodJson(r))
+                     .add("base_trials", searched ? baseTrialsJson(*searched) : Json::array())
                      .str()
               << "\n";
     return 0;
   }
   if (s.remeshing) printRemesh(in, *s.remeshing);
+  if (searched) printBaseTrials(*searched);
   std::printf("%s: %s\n", in.c_str(), describe(*a.recovery()).c_str());
   std::printf("wrote %s: %d triangles (of %d), %lld of %lld coefficients kept\n", out.c_str(),
               r.triangles, a.hierarchy().numFaces(a.levels()), r.kept, r.total);

@@ -154,4 +154,31 @@ Json lodJson(const LodReport& r) {
   return j.add("extract_seconds", r.extractSeconds).add("warnings", warnings);
 }
 
+Json baseTrialsJson(const BudgetLod& b) {
+  Json trials = Json::array();
+  for (std::size_t i = 0; i < b.trials.size(); ++i) {
+    const BaseTrial& t = b.trials[i];
+    trials.push(Json::object()
+                    .add("base_faces_asked", t.baseFacesAsked)
+                    .add("base_faces", t.baseFaces)
+                    .add("levels", t.levels)
+                    .add("triangles", t.triangles)
+                    .add("rms_relative", t.rmsRelative)
+                    .add("seconds", t.seconds)
+                    .add("kept", static_cast<int>(i) == b.chosen));
+  }
+  return trials;
+}
+
+void printBaseTrials(const BudgetLod& b) {
+  for (std::size_t i = 0; i < b.trials.size(); ++i) {
+    const BaseTrial& t = b.trials[i];
+    std::printf(
+        "base of %d faces (%d asked), J = %d: %d triangles, sampled RMS to the input "
+        "%.3g (%.1f s)%s\n",
+        t.baseFaces, t.baseFacesAsked, t.levels, t.triangles, t.rmsRelative, t.seconds,
+        static_cast<int>(i) == b.chosen ? ", kept" : "");
+  }
+}
+
 }  // namespace osdmra::cli

@@ -45,4 +45,9 @@ LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double ext
                     long long budget = -1);
 Json lodJson(const LodReport& r);
 
+/// The base sizes `lod --remesh --budget` tried (lodForBudget): an array of objects
+/// (base faces asked and made, levels, triangles, RMS to the input, seconds, kept).
+Json baseTrialsJson(const BudgetLod& b);
+void printBaseTrials(const BudgetLod& b);
+
 }  // namespace osdmra::cli

@@ -170,8 +170,8 @@ TriMesh readRemeshInput(const std::string& path, const InputOptions& options,
   return input;
 }
 
-int baseFacesForBudget(long long triangles) {
-  return static_cast<int>(std::clamp<long long>(triangles / 4, 4, 1 << 24));
+int baseFacesForBudget(long long triangles, int divisor) {
+  return static_cast<int>(std::clamp<long long>(triangles / std::max(divisor, 1), 4, 1 << 24));
 }
 
 int levelsForBase(int baseFaces, int maxLevels) {
@@ -346,6 +346,86 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
   c.scheme = c.linearBytes < c.loopBytes ? Scheme::Linear : Scheme::Loop;
   c.surface.emplace(std::move(c.scheme == Scheme::Linear ? linear : loop));
   return c;
+}
+
+// ---- A level of detail of any mesh, for a budget ---------------------------------------
+
+namespace {
+
+// One trial of lodForBudget: `input` remeshed over `baseFaces`, analysed, cut at the
+// budget and measured against the input.
+struct Trial {
+  BaseTrial row;
+  BudgetLod lod;
+};
+
+Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::string& path,
+              long long budget, int baseFaces, InputOptions options,
+              const AnalysisOptions& analysis, const BudgetSearchOptions& search,
+              const Progress& progress) {
+  const auto t0 = Clock::now();
+  options.remeshing.baseFaces = baseFaces;
+  if (search.levelsForEachBase)
+    options.remeshing.levels = levelsForBase(baseFaces, options.remeshing.levels);
+  Trial t;
+  LoadedSurface& s = t.lod.surface;
+  s.source = path;
+  s.remeshing = repairs;
+  measureRemeshing(input, path, options, progress, *s.remeshing);
+  s.mesh = s.remeshing->result.mesh;
+  s.seconds = secondsSince(t0);
+  t.lod.analysed.emplace(s.mesh, analysis, path, progress);
+  const auto t1 = Clock::now();
+  t.lod.lod = t.lod.analysed->approximator().budget(budget);
+  t.lod.extractSeconds = secondsSince(t1);
+  t.row.baseFacesAsked = baseFaces;
+  t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
+  t.row.levels = options.remeshing.levels;
+  t.row.triangles = t.lod.lod.triangles();
+  t.row.rmsRelative = surfaceDistance(t.lod.lod.mesh, input, search.selection).rmsRelative;
+  t.row.seconds = secondsSince(t0);
+  return t;
+}
+
+// Whether trial a's level of detail is to be kept over b's: within the budget first,
+// then the closer to the input (the larger base on a tie, tried first).
+bool better(const BaseTrial& a, const BaseTrial& b, long long budget) {
+  const bool aFits = a.triangles <= budget, bFits = b.triangles <= budget;
+  if (aFits != bFits) return aFits;
+  return a.rmsRelative < b.rmsRelative;
+}
+
+}  // namespace
+
+BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions input,
+                       const AnalysisOptions& analysis, const BudgetSearchOptions& search,
+                       const Progress& progress) {
+  if (budget < 1) throw Error(path + ": a level of detail needs a budget of 1 triangle or more");
+  if (search.divisors.empty()) throw Error("lodForBudget: no base size to try");
+  const auto t0 = Clock::now();
+  input.remesh = true;
+  RemeshReport repairs;
+  report(progress, "reading", 0);
+  const TriMesh mesh = readRemeshInput(path, input, &repairs);
+  std::optional<Trial> kept;
+  std::vector<BaseTrial> rows;
+  int previousAsk = 0;
+  for (int divisor : search.divisors) {
+    const int asked = baseFacesForBudget(budget, divisor);
+    if (!rows.empty() && (asked >= previousAsk || rows.back().baseFaces > 1.1 * previousAsk)) break;
+    previousAsk = asked;
+    Trial t = tryBase(mesh, repairs, path, budget, asked, input, analysis, search, progress);
+    rows.push_back(t.row);
+    if (!kept || better(t.row, kept->row, budget)) {
+      kept = std::move(t);
+      kept->lod.chosen = static_cast<int>(rows.size()) - 1;
+    }
+  }
+  BudgetLod out = std::move(kept->lod);
+  out.trials = std::move(rows);
+  out.surface.remeshing->input = mesh;  // what the level of detail is measured against
+  out.surface.seconds = secondsSince(t0);
+  return out;
 }
 
 }  // namespace osdmra

@@ -120,13 +120,13 @@ RemeshReport remeshMeasured(const TriMesh& input, const std::string& source,
 constexpr double kFarRemeshing = 0.01;
 
 /// The base size to remesh with for a level of detail of at most `triangles`: a
-/// quarter of them, at least 4. The base is where the remesher's simplification puts
-/// its vertices where the surface needs them, and the level of detail refines it
-/// isotropically, so the base should grow with the budget: on the bunny at 2,084 and
-/// 6,945 triangles a base of a quarter gave 0.75x the RMS of the 300-face default,
-/// on armadillo at 8,648 0.73x (docs/LOD.md); a quarter leaves room for a base somewhat
-/// larger than asked, which the remesher makes where features need it.
-int baseFacesForBudget(long long triangles);
+/// quarter of them by default (triangles / divisor), at least 4. The base is where the remesher's
+/// simplification puts its vertices where the surface needs them, and the level of detail refines
+/// it isotropically, so the base should grow with the budget: on the bunny at 2,084 and 6,945
+/// triangles a base of a quarter gave 0.75x the RMS of the 300-face default, on armadillo at 8,648
+/// 0.73x (docs/LOD.md); a quarter leaves room for a base somewhat larger than asked, which the
+/// remesher makes where features need it.
+int baseFacesForBudget(long long triangles, int divisor = 4);
 
 /// The subdivision levels to remesh a base of `baseFaces` with: the most, up to
 /// `maxLevels`, that keep the remeshing within 2^19 faces (at least 2), as the
@@ -227,5 +227,56 @@ struct CodingSchemeChoice {
 };
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
                                       CodecOptions codec, const std::string& source = "");
+
+// ---- A level of detail of any mesh, for a budget ---------------------------------------
+
+/// The base sizes lodForBudget tries.
+struct BudgetSearchOptions {
+  /// Each trial remeshes over baseFacesForBudget(budget, divisor) base faces, in this
+  /// order (largest base first).
+  /// A quarter leaves the level of detail one level of splits to choose among, a
+  /// sixteenth two: which is closer depends on the mesh (on the 48 rows of docs/LOD.md,
+  /// "A scan as a user gives it": a sixteenth closer on 10, by up to 32% RMS, a quarter
+  /// on 31, by up to 2.5x, 7 the same base), so both are measured.
+  std::vector<int> divisors = {4, 16};
+  /// Remesh each base with levelsForBase(base, InputOptions::remeshing.levels); off
+  /// keeps InputOptions::remeshing.levels for every trial (a user's --levels).
+  bool levelsForEachBase = true;
+  /// How each trial's level of detail is measured against the input. It only ranks the
+  /// trials, so it samples less than a report does.
+  DistanceOptions selection{20000, 1, true};
+};
+
+/// One base size lodForBudget tried.
+struct BaseTrial {
+  int baseFacesAsked = 0, baseFaces = 0, levels = 0;
+  int triangles = 0;       ///< of its level of detail at the budget
+  double rmsRelative = 0;  ///< of that level of detail to the input (selection's samples)
+  double seconds = 0;      ///< remeshing, analysis, extraction and measurement
+};
+
+/// What lodForBudget kept.
+struct BudgetLod {
+  LoadedSurface surface;  ///< the remeshing kept; its RemeshReport::input the repaired input
+  std::optional<AnalysedSurface> analysed;  ///< its analysis
+  Approximation lod;                        ///< its level of detail at the budget
+  double extractSeconds = 0;                ///< that extraction's time
+  std::vector<BaseTrial> trials;            ///< in the order tried
+  int chosen = 0;                           ///< the trial kept
+};
+
+/// `osdmra lod IN --remesh --budget N` without --base-faces: reads and repairs `path`
+/// once (readRemeshInput), then for each of search.divisors remeshes it over that base
+/// size, analyses the remeshing with `analysis`, extracts the level of detail of at
+/// most `budget` triangles and measures it against the input; keeps the closest (one
+/// within the budget before one over it). The remesher's simplification places the
+/// base's vertices and the level of detail only splits its faces, so the base's size
+/// and layout decide much of the error, and no rule predicts the better one per mesh.
+/// A smaller base is not tried once the remesher stopped more than 10% above the size
+/// asked (features or topology hold it there: a smaller ask gives no smaller base).
+/// Each trial costs one remeshing and analysis. Throws Error as loadSurface does.
+BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions input,
+                       const AnalysisOptions& analysis, const BudgetSearchOptions& search = {},
+                       const Progress& progress = {});
 
 }  // namespace osdmra

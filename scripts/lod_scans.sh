@@ -64,7 +64,8 @@ if [[ "${1:-}" == "--update-docs" ]]; then
     echo "\`scripts/lod_scans.sh --update-docs\`, $(date -u '+%Y-%m-%d %H:%M UTC'). RMS /" \
       "Hausdorff: sampled symmetric distances to the scan (100,000 samples a side plus the" \
       "vertices, seed 1), relative to its bounding-box diagonal; osdmra's times are the" \
-      "remeshing and analysis, then the extraction."
+      "whole of lod (every base tried: remeshing, analysis, extraction, measurement), then" \
+      "the kept level of detail's extraction."
     echo
     cat "$out/summary.md"
     echo

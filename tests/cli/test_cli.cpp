@@ -363,20 +363,28 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   ASSERT_EQ(lod.status, 0) << lod.err;
   EXPECT_NE(lod.out.find("\"remesh\": {"), std::string::npos) << lod.out;
   EXPECT_NE(lod.out.find("\"to_input\": {\"rms_relative\": "), std::string::npos) << lod.out;
-  // Without --base-faces, a budget remeshes over a base of a quarter of it, so that a
-  // small budget can be met: a base of the default 300 faces could not.
+  // Without --base-faces, a budget remeshes over a quarter and a sixteenth of it, so
+  // that a small budget can be met (a base of the default 300 faces could not), and
+  // keeps the closer: both trials reported, one kept.
   const Result small =
       run("lod " + path("t3.obj") + " --remesh --levels 2 --budget 200 --samples 2000 --json -o " +
           path("l.obj"));
   ASSERT_EQ(small.status, 0) << small.err;
-  EXPECT_NE(small.out.find("\"base_faces\": 50,"), std::string::npos) << small.out;
+  const std::size_t trials = small.out.find("\"base_trials\": [{\"base_faces_asked\": 50,");
+  ASSERT_NE(trials, std::string::npos) << small.out;
+  EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
+  const std::size_t kept = small.out.find("\"kept\": true", trials);
+  ASSERT_NE(kept, std::string::npos) << small.out;
+  EXPECT_EQ(small.out.find("\"kept\": true", kept + 1), std::string::npos) << small.out;
   EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 200);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
-  // Without --levels too, the levels keep the remeshing within 2^19 faces: 5 over 50.
+  // Without --levels too, the levels keep each remeshing within 2^19 faces: 5 over 50.
   const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --samples 500 " +
                             "--json -o " + path("l.obj"));
   ASSERT_EQ(levels.status, 0) << levels.err;
-  EXPECT_NE(levels.out.find("\"faces\": 51200,"), std::string::npos) << levels.out;
+  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 50, \"base_faces\": 50, \"levels\": 5,"),
+            std::string::npos)
+      << levels.out;
   // A torus cannot be remeshed over the 4 faces a budget of 8 asks for: the
   // level of detail is the base the remesher made, over the budget, and a warning says
   // why.

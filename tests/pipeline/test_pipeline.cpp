@@ -319,6 +319,8 @@ TEST(BaseFacesForBudget, AQuarterOfTheBudgetAndAtLeastATetrahedron) {
   EXPECT_EQ(baseFacesForBudget(15), 4);
   EXPECT_EQ(baseFacesForBudget(1), 4);
   EXPECT_EQ(baseFacesForBudget(1LL << 40), 1 << 24);
+  EXPECT_EQ(baseFacesForBudget(400, 16), 25);  // lodForBudget's second trial
+  EXPECT_EQ(baseFacesForBudget(60, 16), 4);
 }
 
 // As many levels as keep the remeshing within 2^19 faces, at most the maximum, at
@@ -351,6 +353,72 @@ TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
   EXPECT_EQ(s.remeshing->input.F, input.F);
   EXPECT_EQ(s.remeshing->input.V, input.V);  // binary PLY is exact
   EXPECT_NE(s.mesh.F.rows(), input.F.rows());
+}
+
+// lod --remesh --budget: every base tried is remeshed, cut at the budget and measured
+// against the input; the one kept is the closest of those within the budget, and what
+// is returned is that trial's level of detail, its remeshing and the repaired input.
+TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
+  const TriMesh input = shapes::torus(27, 13);
+  TempDir dir;
+  const std::string path = dir.file("torus.ply");
+  writeMesh(path, input);
+  InputOptions o;
+  o.remeshing.levels = 3;
+  o.distance.samples = 2000;
+  AnalysisOptions a;
+  a.scheme = Scheme::Linear;
+  BudgetSearchOptions search;
+  search.selection.samples = 5000;
+  search.levelsForEachBase = false;  // --levels 3
+  const long long budget = 400;
+  const BudgetLod b = lodForBudget(path, budget, o, a, search);
+  ASSERT_EQ(b.trials.size(), 2u);
+  EXPECT_EQ(b.trials[0].baseFacesAsked, 100);
+  EXPECT_EQ(b.trials[1].baseFacesAsked, 25);
+  ASSERT_TRUE(b.chosen == 0 || b.chosen == 1);
+  const BaseTrial& kept = b.trials[b.chosen];
+  for (const BaseTrial& t : b.trials) {
+    EXPECT_LE(t.triangles, budget);
+    EXPECT_EQ(t.levels, 3);
+    EXPECT_LE(kept.rmsRelative, t.rmsRelative);
+  }
+  EXPECT_EQ(b.lod.triangles(), kept.triangles);
+  EXPECT_EQ(b.surface.remeshing->result.base.F.rows(), kept.baseFaces);
+  EXPECT_EQ(b.surface.remeshing->requestedBaseFaces, kept.baseFacesAsked);
+  EXPECT_EQ(b.surface.mesh.F.rows(), kept.baseFaces * 64);
+  EXPECT_EQ(b.analysed->hierarchy().numFaces(3), b.surface.mesh.F.rows());
+  EXPECT_EQ(b.surface.remeshing->input.F, input.F);
+  // The level of detail is the kept trial's: measured again with its samples, the same.
+  EXPECT_DOUBLE_EQ(surfaceDistance(b.lod.mesh, input, search.selection).rmsRelative,
+                   kept.rmsRelative);
+  // levelsForEachBase (no --levels): each base gets the levels that keep it within
+  // 2^19 faces, up to the maximum.
+  search.levelsForEachBase = true;
+  o.remeshing.levels = 4;
+  const BudgetLod c = lodForBudget(path, budget, o, a, search);
+  for (const BaseTrial& t : c.trials) EXPECT_EQ(t.levels, levelsForBase(t.baseFacesAsked, 4));
+}
+
+// A base the remesher cannot bring down to the size asked (a torus: 22 faces at the
+// fewest) is not asked for smaller again: at a budget of 64 the quarter (16 faces asked)
+// comes out at 22, and the sixteenth (4) is not tried.
+TEST(LodForBudget, StopsWhereTheRemesherCannotGoSmaller) {
+  TempDir dir;
+  const std::string path = dir.file("torus.ply");
+  writeMesh(path, shapes::torus(27, 13));
+  InputOptions o;
+  o.remeshing.levels = 1;
+  o.distance.samples = 500;
+  BudgetSearchOptions search;
+  search.selection.samples = 500;
+  search.levelsForEachBase = false;
+  const BudgetLod b = lodForBudget(path, 64, o, AnalysisOptions{}, search);
+  ASSERT_EQ(b.trials.size(), 1u);
+  EXPECT_EQ(b.trials[0].baseFacesAsked, 16);
+  EXPECT_GT(b.trials[0].baseFaces, 16 * 11 / 10);
+  EXPECT_LE(b.lod.triangles(), 64);
+  EXPECT_THROW(lodForBudget(path, 0, o, AnalysisOptions{}, search), Error);
 }
 
 TEST(LoadSurface, MendsZeroAreaFacesBeforeRemeshing) {
