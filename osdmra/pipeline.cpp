@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/self_intersection.h"
@@ -387,6 +388,18 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   return t;
 }
 
+// The base sizes of search.divisors for `budget`, each smaller than the one before
+// (tiny budgets give the same size for several).
+std::vector<int> baseSizesToTry(long long budget, const std::vector<int>& divisors) {
+  std::vector<int> asks;
+  for (int divisor : divisors) {
+    const int ask = baseFacesForBudget(budget, divisor);
+    if (asks.empty() || ask < asks.back()) asks.push_back(ask);
+  }
+  if (asks.empty()) throw Error("lodForBudget: no base size to try");
+  return asks;
+}
+
 // Whether trial a's level of detail is to be kept over b's: within the budget first,
 // then the closer to the input (the larger base on a tie, tried first).
 bool better(const BaseTrial& a, const BaseTrial& b, long long budget) {
@@ -401,28 +414,30 @@ BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions i
                        const AnalysisOptions& analysis, const BudgetSearchOptions& search,
                        const Progress& progress) {
   if (budget < 1) throw Error(path + ": a level of detail needs a budget of 1 triangle or more");
-  if (search.divisors.empty()) throw Error("lodForBudget: no base size to try");
+  const std::vector<int> asks = baseSizesToTry(budget, search.divisors);
   const auto t0 = Clock::now();
   input.remesh = true;
   RemeshReport repairs;
   report(progress, "reading", 0);
   const TriMesh mesh = readRemeshInput(path, input, &repairs);
-  std::optional<Trial> kept;
-  std::vector<BaseTrial> rows;
-  int previousAsk = 0;
-  for (int divisor : search.divisors) {
-    const int asked = baseFacesForBudget(budget, divisor);
-    if (!rows.empty() && (asked >= previousAsk || rows.back().baseFaces > 1.1 * previousAsk)) break;
-    previousAsk = asked;
-    Trial t = tryBase(mesh, repairs, path, budget, asked, input, analysis, search, progress);
-    rows.push_back(t.row);
-    if (!kept || better(t.row, kept->row, budget)) {
-      kept = std::move(t);
-      kept->lod.chosen = static_cast<int>(rows.size()) - 1;
-    }
-  }
-  BudgetLod out = std::move(kept->lod);
-  out.trials = std::move(rows);
+  const auto run = [&](int ask, const Progress& p) {
+    return tryBase(mesh, repairs, path, budget, ask, input, analysis, search, p);
+  };
+  // The first trial in this thread, reporting progress; the others beside it.
+  std::vector<std::future<Trial>> others;
+  for (std::size_t i = 1; i < asks.size(); ++i)
+    others.push_back(std::async(search.concurrently ? std::launch::async : std::launch::deferred,
+                                run, asks[i], Progress{}));
+  std::vector<Trial> trials;
+  trials.push_back(run(asks[0], progress));
+  if (!others.empty()) report(progress, "waiting for the other base sizes", 0);
+  for (std::future<Trial>& f : others) trials.push_back(f.get());
+  int chosen = 0;
+  for (int i = 1; i < static_cast<int>(trials.size()); ++i)
+    if (better(trials[i].row, trials[chosen].row, budget)) chosen = i;
+  BudgetLod out = std::move(trials[chosen].lod);
+  out.chosen = chosen;
+  for (const Trial& t : trials) out.trials.push_back(t.row);
   out.surface.remeshing->input = mesh;  // what the level of detail is measured against
   out.surface.seconds = secondsSince(t0);
   return out;

@@ -242,6 +242,10 @@ struct BudgetSearchOptions {
   /// Remesh each base with levelsForBase(base, InputOptions::remeshing.levels); off
   /// keeps InputOptions::remeshing.levels for every trial (a user's --levels).
   bool levelsForEachBase = true;
+  /// Run the trials at once, each on its own thread (the remesher's simplification is
+  /// serial: two trials on two cores take about the time of one and a half), holding
+  /// their memory together; off, one after the other (the same result).
+  bool concurrently = true;
   /// How each trial's level of detail is measured against the input. It only ranks the
   /// trials, so it samples less than a report does.
   DistanceOptions selection{20000, 1, true};
@@ -266,15 +270,14 @@ struct BudgetLod {
 };
 
 /// `osdmra lod IN --remesh --budget N` without --base-faces: reads and repairs `path`
-/// once (readRemeshInput), then for each of search.divisors remeshes it over that base
-/// size, analyses the remeshing with `analysis`, extracts the level of detail of at
-/// most `budget` triangles and measures it against the input; keeps the closest (one
-/// within the budget before one over it). The remesher's simplification places the
-/// base's vertices and the level of detail only splits its faces, so the base's size
-/// and layout decide much of the error, and no rule predicts the better one per mesh.
-/// A smaller base is not tried once the remesher stopped more than 10% above the size
-/// asked (features or topology hold it there: a smaller ask gives no smaller base).
-/// Each trial costs one remeshing and analysis. Throws Error as loadSurface does.
+/// once (readRemeshInput), then for each of search.divisors (sizes that coincide on a
+/// tiny budget tried once) remeshes it over that base size, analyses the remeshing with
+/// `analysis`, extracts the level of detail of at most `budget` triangles and measures
+/// it against the input; keeps the closest (one within the budget before one over it).
+/// The remesher's simplification places the base's vertices and the level of detail
+/// only splits its faces, so the base's size and layout decide much of the error, and
+/// no rule predicts the better one per mesh. Each trial costs one remeshing and
+/// analysis; `progress` follows the first. Throws Error as loadSurface does.
 BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions input,
                        const AnalysisOptions& analysis, const BudgetSearchOptions& search = {},
                        const Progress& progress = {});

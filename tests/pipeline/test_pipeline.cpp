@@ -400,10 +400,9 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   for (const BaseTrial& t : c.trials) EXPECT_EQ(t.levels, levelsForBase(t.baseFacesAsked, 4));
 }
 
-// A base the remesher cannot bring down to the size asked (a torus: 22 faces at the
-// fewest) is not asked for smaller again: at a budget of 64 the quarter (16 faces asked)
-// comes out at 22, and the sixteenth (4) is not tried.
-TEST(LodForBudget, StopsWhereTheRemesherCannotGoSmaller) {
+// Base sizes that coincide on a tiny budget (a quarter and a sixteenth of 8 are both
+// the 4 faces of the smallest base) are tried once; a budget under 1 is refused.
+TEST(LodForBudget, TriesCoincidingSizesOnce) {
   TempDir dir;
   const std::string path = dir.file("torus.ply");
   writeMesh(path, shapes::torus(27, 13));
@@ -413,12 +412,40 @@ TEST(LodForBudget, StopsWhereTheRemesherCannotGoSmaller) {
   BudgetSearchOptions search;
   search.selection.samples = 500;
   search.levelsForEachBase = false;
-  const BudgetLod b = lodForBudget(path, 64, o, AnalysisOptions{}, search);
+  const BudgetLod b = lodForBudget(path, 8, o, AnalysisOptions{}, search);
   ASSERT_EQ(b.trials.size(), 1u);
-  EXPECT_EQ(b.trials[0].baseFacesAsked, 16);
-  EXPECT_GT(b.trials[0].baseFaces, 16 * 11 / 10);
-  EXPECT_LE(b.lod.triangles(), 64);
+  EXPECT_EQ(b.trials[0].baseFacesAsked, 4);
+  EXPECT_GT(b.trials[0].baseFaces, 4);  // a torus needs more: over the budget, said later
+  EXPECT_EQ(b.lod.triangles(), b.trials[0].baseFaces);
   EXPECT_THROW(lodForBudget(path, 0, o, AnalysisOptions{}, search), Error);
+  search.divisors.clear();
+  EXPECT_THROW(lodForBudget(path, 8, o, AnalysisOptions{}, search), Error);
+}
+
+// The trials run at once or one after the other to the same result.
+TEST(LodForBudget, ConcurrentTrialsGiveTheSequentialResult) {
+  TempDir dir;
+  const std::string path = dir.file("torus.ply");
+  writeMesh(path, shapes::torus(27, 13));
+  InputOptions o;
+  o.remeshing.levels = 2;
+  o.distance.samples = 500;
+  BudgetSearchOptions search;
+  search.selection.samples = 2000;
+  search.levelsForEachBase = false;
+  const BudgetLod at = lodForBudget(path, 300, o, AnalysisOptions{}, search);
+  search.concurrently = false;
+  const BudgetLod after = lodForBudget(path, 300, o, AnalysisOptions{}, search);
+  ASSERT_EQ(at.trials.size(), 2u);
+  ASSERT_EQ(after.trials.size(), 2u);
+  EXPECT_EQ(at.chosen, after.chosen);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(at.trials[i].baseFaces, after.trials[i].baseFaces);
+    EXPECT_EQ(at.trials[i].triangles, after.trials[i].triangles);
+    EXPECT_EQ(at.trials[i].rmsRelative, after.trials[i].rmsRelative);
+  }
+  EXPECT_EQ(at.lod.mesh.V, after.lod.mesh.V);
+  EXPECT_EQ(at.lod.mesh.F, after.lod.mesh.F);
 }
 
 TEST(LoadSurface, MendsZeroAreaFacesBeforeRemeshing) {
