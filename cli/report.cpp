@@ -53,6 +53,7 @@ Json remeshJson(const RemeshReport& r) {
       .add("feature_edges", r.result.featureEdges)
       .add("base_vertices", static_cast<int>(r.result.base.V.rows()))
       .add("base_faces", static_cast<int>(r.result.base.F.rows()))
+      .add("levels", r.result.levels)
       .add("faces", static_cast<int>(r.result.mesh.F.rows()))
       .add("simplification", Json::object()
                                  .add("rounds", r.result.simplificationRounds)
@@ -163,6 +164,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("base_faces", t.baseFaces)
                     .add("levels", t.levels)
                     .add("triangles", t.triangles)
+                    .add("defects", t.defects)
                     .add("rms_relative", t.rmsRelative)
                     .add("seconds", t.seconds)
                     .add("kept", static_cast<int>(i) == b.chosen));
@@ -175,8 +177,9 @@ void printBaseTrials(const BudgetLod& b) {
     const BaseTrial& t = b.trials[i];
     std::printf(
         "base of %d faces (%d asked), J = %d: %d triangles, sampled RMS to the input "
-        "%.3g (%.1f s)%s\n",
+        "%.3g (%.1f s)%s%s\n",
         t.baseFaces, t.baseFacesAsked, t.levels, t.triangles, t.rmsRelative, t.seconds,
+        t.defects > 0 ? ", defects left in the remeshing" : "",
         static_cast<int>(i) == b.chosen ? ", kept" : "");
   }
 }

@@ -175,14 +175,6 @@ int baseFacesForBudget(long long triangles, int divisor) {
   return static_cast<int>(std::clamp<long long>(triangles / std::max(divisor, 1), 4, 1 << 24));
 }
 
-int levelsForBase(int baseFaces, int maxLevels) {
-  int levels = 2;
-  while (levels < maxLevels &&
-         (static_cast<long long>(baseFaces) << (2 * (levels + 1))) <= (1 << 19))
-    ++levels;
-  return levels;
-}
-
 LoadedSurface loadSurface(const std::string& path, const InputOptions& options,
                           const Progress& progress) {
   const auto t0 = Clock::now();
@@ -366,8 +358,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
               const Progress& progress) {
   const auto t0 = Clock::now();
   options.remeshing.baseFaces = baseFaces;
-  if (search.levelsForEachBase)
-    options.remeshing.levels = levelsForBase(baseFaces, options.remeshing.levels);
+  if (search.levelsForEachBase) options.remeshing.maxFaces = kLodRemeshingFaces;
   Trial t;
   LoadedSurface& s = t.lod.surface;
   s.source = path;
@@ -381,8 +372,11 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   t.lod.extractSeconds = secondsSince(t1);
   t.row.baseFacesAsked = baseFaces;
   t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
-  t.row.levels = options.remeshing.levels;
+  t.row.levels = s.remeshing->result.levels;
   t.row.triangles = t.lod.lod.triangles();
+  const Remeshing& r = s.remeshing->result;
+  t.row.defects = r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
+                  r.selfIntersectionsAtInputCrossings;
   t.row.rmsRelative = surfaceDistance(t.lod.lod.mesh, input, search.selection).rmsRelative;
   t.row.seconds = secondsSince(t0);
   return t;
@@ -401,10 +395,12 @@ std::vector<int> baseSizesToTry(long long budget, const std::vector<int>& diviso
 }
 
 // Whether trial a's level of detail is to be kept over b's: within the budget first,
-// then the closer to the input (the larger base on a tie, tried first).
+// then from a remeshing without defects left, then the closer to the input (the larger
+// base on a tie, tried first).
 bool better(const BaseTrial& a, const BaseTrial& b, long long budget) {
   const bool aFits = a.triangles <= budget, bFits = b.triangles <= budget;
   if (aFits != bFits) return aFits;
+  if ((a.defects == 0) != (b.defects == 0)) return a.defects == 0;
   return a.rmsRelative < b.rmsRelative;
 }
 

@@ -128,10 +128,9 @@ constexpr double kFarRemeshing = 0.01;
 /// remesher makes where features need it.
 int baseFacesForBudget(long long triangles, int divisor = 4);
 
-/// The subdivision levels to remesh a base of `baseFaces` with: the most, up to
-/// `maxLevels`, that keep the remeshing within 2^19 faces (at least 2), as the
-/// default 5 over 300 faces does (307,200 faces).
-int levelsForBase(int baseFaces, int maxLevels);
+/// The size lodForBudget keeps each remeshing within (RemeshOptions::maxFaces), as the
+/// default 5 levels over 300 base faces do (307,200 faces).
+constexpr long long kLodRemeshingFaces = 1 << 19;
 
 // ---- Analysis ----------------------------------------------------------------------
 
@@ -239,8 +238,10 @@ struct BudgetSearchOptions {
   /// "A scan as a user gives it": a sixteenth closer on 10, by up to 32% RMS, a quarter
   /// on 31, by up to 2.5x, 7 the same base), so both are measured.
   std::vector<int> divisors = {4, 16};
-  /// Remesh each base with levelsForBase(base, InputOptions::remeshing.levels); off
-  /// keeps InputOptions::remeshing.levels for every trial (a user's --levels).
+  /// Remesh each base with as many levels, up to InputOptions::remeshing.levels, as
+  /// keep the remeshing within kLodRemeshingFaces, counted on the base the remesher
+  /// made (RemeshOptions::maxFaces); off keeps InputOptions::remeshing.levels for every
+  /// trial (a user's --levels).
   bool levelsForEachBase = true;
   /// Run the trials at once, each on its own thread (the remesher's simplification is
   /// serial: two trials on two cores take about the time of one and a half), holding
@@ -254,7 +255,10 @@ struct BudgetSearchOptions {
 /// One base size lodForBudget tried.
 struct BaseTrial {
   int baseFacesAsked = 0, baseFaces = 0, levels = 0;
-  int triangles = 0;       ///< of its level of detail at the budget
+  int triangles = 0;  ///< of its level of detail at the budget
+  /// What its remeshing left that a better layout could avoid: flipped and zero-area
+  /// triangles, and crossing pairs away from the input's own crossings.
+  long long defects = 0;
   double rmsRelative = 0;  ///< of that level of detail to the input (selection's samples)
   double seconds = 0;      ///< remeshing, analysis, extraction and measurement
 };
@@ -273,7 +277,8 @@ struct BudgetLod {
 /// once (readRemeshInput), then for each of search.divisors (sizes that coincide on a
 /// tiny budget tried once) remeshes it over that base size, analyses the remeshing with
 /// `analysis`, extracts the level of detail of at most `budget` triangles and measures
-/// it against the input; keeps the closest (one within the budget before one over it).
+/// it against the input; keeps the closest (one within the budget before one over it,
+/// then one without defects left before one with).
 /// The remesher's simplification places the base's vertices and the level of detail
 /// only splits its faces, so the base's size and layout decide much of the error, and
 /// no rule predicts the better one per mesh. Each trial costs one remeshing and

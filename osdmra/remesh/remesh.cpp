@@ -1,5 +1,6 @@
 #include "osdmra/remesh/remesh.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -31,6 +32,9 @@ void checkInput(const TriMesh& input, const RemeshOptions& options) {
   if (options.levels < 0 || options.levels > 8)
     throw Error("remesh: RemeshOptions::levels must be in 0..8, got " +
                 std::to_string(options.levels));
+  if (options.maxFaces < 0)
+    throw Error("remesh: RemeshOptions::maxFaces must be 0 (no limit) or more, got " +
+                std::to_string(options.maxFaces));
   if (input.F.rows() < 4) throw Error("remesh: the input has fewer than 4 faces");
   // Areas and normals square the coordinates' differences: beyond 1e150 they overflow.
   const double diagonal = boundingBoxDiagonal(input.V);
@@ -104,6 +108,13 @@ long long defectsLeft(const Remeshing& r) {
 
 }  // namespace
 
+int levelsWithin(long long baseFaces, int maxLevels, long long maxFaces) {
+  int levels = std::min(maxLevels, 2);
+  while (levels < maxLevels && (maxFaces == 0 || (baseFaces << (2 * (levels + 1))) <= maxFaces))
+    ++levels;
+  return levels;
+}
+
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progress& progress) {
   using namespace remeshing;
   checkInput(input, options);
@@ -117,6 +128,7 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   out.simplificationRounds = s.rounds;
   out.simplificationStage = s.stage;
   out.baseSizeReason = s.stopReason;
+  out.levels = levelsWithin(s.base.F.rows(), options.levels, options.maxFaces);
 
   // Walks on the input (the clean-up's last stage) do not cross its feature lines.
   const SurfaceWalker walker(input, features.list);
@@ -137,13 +149,13 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
   // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
   // the straightened map, none through the exact one).
   auto exactMap = [&](const Progress& p) {
-    return sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
-                             GridMap::exact, p);
+    return sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::exact,
+                             p);
   };
   ExactMapBeside beside;
   Remeshing best =
-      sampledAndCleaned(out, input, walker, features, s, charts, options.levels,
-                        GridMap::straightened, progress, [&] { beside.start(exactMap); });
+      sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::straightened,
+                        progress, [&] { beside.start(exactMap); });
   const long long straightenedLeft = defectsLeft(best);
   long long exactLeft = -1;
   if (straightenedLeft > 0) {

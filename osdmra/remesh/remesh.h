@@ -37,6 +37,12 @@ struct RemeshOptions {
   int baseFaces = 300;
   /// Rounds of 1-to-4 splitting of the base mesh.
   int levels = 5;
+  /// At most this many output faces (0: no limit): when the base comes out larger than
+  /// asked (features, topology: see Remeshing::baseSizeReason), fewer levels keep the
+  /// output within it (levelsWithin). Without a limit the output grows with the base:
+  /// an ogre's 656 base faces for 300 asked give 671,744 faces at 5 levels, and take
+  /// as much longer to sample, clean and analyse.
+  long long maxFaces = 0;
   /// Edges whose dihedral angle (between face normals) exceeds this, in degrees,
   /// are features that stay edges of the base mesh, if they form chains of at least
   /// 4 edges (shorter ones on scans are noise). 180 turns features off. 70 was best
@@ -50,6 +56,8 @@ struct RemeshOptions {
 
 struct Remeshing {
   TriMesh mesh;  ///< the remeshed surface: M^levels over `base`, positions on the input
+  /// Rounds of splitting made: RemeshOptions::levels, or fewer under maxFaces.
+  int levels = 0;
   /// The base mesh M^0, the first vertices of `mesh`: input vertices, but for those the
   /// clean-up moved (to another point of the input).
   TriMesh base;
@@ -82,6 +90,12 @@ struct Remeshing {
   /// a fold's): no remesh on the input avoids them, and the clean-up leaves them alone.
   long long selfIntersectionsWhereSheetsCross = 0;
 };
+
+/// The levels to split a base of `baseFaces` with: the most, up to `maxLevels`, that
+/// keep the output within `maxFaces` faces (0: no limit), but at least 2 (or
+/// `maxLevels`, if fewer), so that a level of detail has levels to choose among: 5
+/// over 300 faces within 2^19 (307,200), 4 over 1,000 (256,000).
+int levelsWithin(long long baseFaces, int maxLevels, long long maxFaces);
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).
 /// Throws Error when the mesh cannot be simplified to any base at all (fewer than

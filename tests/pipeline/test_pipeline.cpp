@@ -323,19 +323,6 @@ TEST(BaseFacesForBudget, AQuarterOfTheBudgetAndAtLeastATetrahedron) {
   EXPECT_EQ(baseFacesForBudget(60, 16), 4);
 }
 
-// As many levels as keep the remeshing within 2^19 faces, at most the maximum, at
-// least 2: the default 5 over 300 faces (307,200), 4 over 1,000 (256,000).
-TEST(LevelsForBase, TheRemeshingStaysWithin2To19Faces) {
-  EXPECT_EQ(levelsForBase(300, 5), 5);
-  EXPECT_EQ(levelsForBase(512, 5), 5);  // exactly 2^19
-  EXPECT_EQ(levelsForBase(513, 5), 4);
-  EXPECT_EQ(levelsForBase(1000, 5), 4);
-  EXPECT_EQ(levelsForBase(2162, 5), 3);
-  EXPECT_EQ(levelsForBase(4, 5), 5);
-  EXPECT_EQ(levelsForBase(4, 3), 3);
-  EXPECT_EQ(levelsForBase(1 << 20, 5), 2);
-}
-
 // The input as repaired stays with the remeshing: what is made from the remeshing (a
 // level of detail) can be measured against what the user gave.
 TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
@@ -392,12 +379,13 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   // The level of detail is the kept trial's: measured again with its samples, the same.
   EXPECT_DOUBLE_EQ(surfaceDistance(b.lod.mesh, input, search.selection).rmsRelative,
                    kept.rmsRelative);
-  // levelsForEachBase (no --levels): each base gets the levels that keep it within
+  // levelsForEachBase (no --levels): each base made gets the levels that keep it within
   // 2^19 faces, up to the maximum.
   search.levelsForEachBase = true;
   o.remeshing.levels = 4;
   const BudgetLod c = lodForBudget(path, budget, o, a, search);
-  for (const BaseTrial& t : c.trials) EXPECT_EQ(t.levels, levelsForBase(t.baseFacesAsked, 4));
+  for (const BaseTrial& t : c.trials)
+    EXPECT_EQ(t.levels, levelsWithin(t.baseFaces, 4, kLodRemeshingFaces));
 }
 
 // Base sizes that coincide on a tiny budget (a quarter and a sixteenth of 8 are both

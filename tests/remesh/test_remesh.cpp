@@ -299,6 +299,10 @@ TEST(Remesh, RejectsBadOptions) {
   o.baseFaces = 10;
   o.levels = 9;
   EXPECT_THROW(remesh(ico, o), Error);
+  o.levels = 2;
+  o.maxFaces = -1;
+  EXPECT_THROW(remesh(ico, o), Error);
+  o.maxFaces = 0;
   // Coordinates whose squares overflow: refused up front, not an error from deep inside.
   o.levels = 2;
   TriMesh huge = ico;
@@ -312,6 +316,41 @@ TEST(Remesh, RejectsBadOptions) {
   TriMesh large = ico;
   large.V *= 1e100;
   EXPECT_NO_THROW(remesh(large, o));
+}
+
+// As many levels as keep the output within the limit, at least 2 (or all asked if
+// fewer): 5 over 300 faces within 2^19 (307,200 faces), 4 over 1,000 (256,000).
+TEST(LevelsWithin, TheOutputStaysWithinTheLimit) {
+  EXPECT_EQ(levelsWithin(300, 5, 1 << 19), 5);
+  EXPECT_EQ(levelsWithin(512, 5, 1 << 19), 5);  // exactly 2^19
+  EXPECT_EQ(levelsWithin(513, 5, 1 << 19), 4);
+  EXPECT_EQ(levelsWithin(1000, 5, 1 << 19), 4);
+  EXPECT_EQ(levelsWithin(2162, 5, 1 << 19), 3);
+  EXPECT_EQ(levelsWithin(4, 5, 1 << 19), 5);
+  EXPECT_EQ(levelsWithin(4, 3, 1 << 19), 3);
+  EXPECT_EQ(levelsWithin(1 << 20, 5, 1 << 19), 2);
+  EXPECT_EQ(levelsWithin(1 << 20, 1, 1 << 19), 1);
+  EXPECT_EQ(levelsWithin(1 << 20, 5, 0), 5);  // no limit
+}
+
+// A base larger than asked (a torus cannot be simplified to 4 faces) is split fewer
+// times under RemeshOptions::maxFaces, counted on the base made, not the one asked.
+TEST(Remesh, MaxFacesCountsTheBaseMade) {
+  const TriMesh torus = shapes::torus(27, 13);
+  RemeshOptions o;
+  o.baseFaces = 4;
+  o.levels = 5;
+  o.maxFaces = 2000;
+  const Remeshing r = remesh(torus, o);
+  const long long base = r.base.F.rows();
+  ASSERT_GT(base, 4);
+  EXPECT_EQ(r.levels, levelsWithin(base, 5, 2000));
+  EXPECT_LT(r.levels, 5);
+  EXPECT_EQ(r.mesh.F.rows(), base << (2 * r.levels));
+  EXPECT_LE(r.mesh.F.rows(), 2000);
+  o.maxFaces = 0;
+  o.levels = 2;
+  EXPECT_EQ(remesh(torus, o).levels, 2);
 }
 
 // remesh() is a library entry point: an invalid mesh (here an unreferenced vertex, which
