@@ -55,9 +55,11 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, over a base of a quarter
-                               of the budget unless --base-faces says otherwise
-                               (and as many levels, up to 5, as keep the remeshing
+                               --remesh as for analyze, twice with a budget: over
+                               a base of a quarter and of a sixteenth of it, the
+                               level of detail closer to the input kept (both
+                               reported), unless --base-faces says otherwise (each
+                               with as many levels, up to 5, as keep the remeshing
                                within 2^19 faces, unless --levels); the remeshing
                                and the level of detail's distance to the input as
                                given are reported apart
