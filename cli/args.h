@@ -116,6 +116,7 @@ inline std::string withFlagNames(std::string message) {
       {"RemeshOptions::baseFaces", "--base-faces"},
       {"RemeshOptions::levels", "--levels"},
       {"RemeshOptions::featureAngle", "--feature-angle"},
+      {"RemeshOptions::maxFaces", "--max-faces"},
       {"InputOptions::minComponentFaces", "--min-component-faces"},
       {"AnalysisOptions::levels", "--levels"},
   };

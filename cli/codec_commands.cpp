@@ -62,7 +62,7 @@ int cmdCompress(const Argv& argv) {
   Args args("compress", argv,
             {"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme", "wavelets", "rings",
              "precision", "tangent-weight", "level-gain", "psnr-measure", "base-faces",
-             "feature-angle", "min-component-faces", "samples", "seed"},
+             "feature-angle", "min-component-faces", "max-faces", "samples", "seed"},
             flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
   const Common opt = common(args);

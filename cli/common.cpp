@@ -49,6 +49,7 @@ RemeshOptions remeshOptions(const Args& args) {
   o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
   o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
   o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
+  o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
   return o;
 }
 

@@ -64,7 +64,7 @@ commands:
                                and the level of detail's distance to the input as
                                given are reported apart
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
-                 [--min-component-faces F]
+                 [--min-component-faces F] [--max-faces M]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -75,7 +75,9 @@ commands:
                                the input somewhere, or if the base has more faces
                                than asked (it keeps tips of protrusions);
                                components of fewer than F faces are dropped first
-                               (default 0: all kept)
+                               (default 0: all kept); with --max-faces, a base
+                               larger than asked is split fewer times, keeping the
+                               output within M faces
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
                                (lod's defaults but --placement levels)

@@ -358,7 +358,8 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
               const Progress& progress) {
   const auto t0 = Clock::now();
   options.remeshing.baseFaces = baseFaces;
-  if (search.levelsForEachBase) options.remeshing.maxFaces = kLodRemeshingFaces;
+  if (search.levelsForEachBase && options.remeshing.maxFaces == 0)
+    options.remeshing.maxFaces = kLodRemeshingFaces;
   Trial t;
   LoadedSurface& s = t.lod.surface;
   s.source = path;

@@ -239,9 +239,9 @@ struct BudgetSearchOptions {
   /// on 31, by up to 2.5x, 7 the same base), so both are measured.
   std::vector<int> divisors = {4, 16};
   /// Remesh each base with as many levels, up to InputOptions::remeshing.levels, as
-  /// keep the remeshing within kLodRemeshingFaces, counted on the base the remesher
-  /// made (RemeshOptions::maxFaces); off keeps InputOptions::remeshing.levels for every
-  /// trial (a user's --levels).
+  /// keep the remeshing within kLodRemeshingFaces (or RemeshOptions::maxFaces when
+  /// given), counted on the base the remesher made; off keeps InputOptions::remeshing.levels for
+  /// every trial (a user's --levels).
   bool levelsForEachBase = true;
   /// Run the trials at once, each on its own thread (the remesher's simplification is
   /// serial: two trials on two cores take about the time of one and a half), holding

@@ -352,6 +352,13 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
       << coarse.out;
   EXPECT_NE(coarse.out.find("\"the remeshed surface is", list), std::string::npos) << coarse.out;
   EXPECT_TRUE(fs::exists(path("c.obj")));
+  // --max-faces splits that larger base fewer times than --levels asks.
+  const Result capped =
+      run("remesh " + path("t3.obj") + " --base-faces 4 --levels 5 --max-faces 2000 --json -o " +
+          path("c.obj"));
+  ASSERT_EQ(capped.status, 0) << capped.err;
+  EXPECT_EQ(capped.out.find("\"levels\": 5,"), std::string::npos) << capped.out;
+  EXPECT_LE(readValidMesh(path("c.obj")).F.rows(), 2000);
   const TriMesh m = readValidMesh(path("r.ply"));
   EXPECT_EQ(m.F.rows() % 16, 0);
   // lod through --remesh reports the remeshing apart, and the level of detail's
