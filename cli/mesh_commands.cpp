@@ -117,16 +117,10 @@ int cmdRemesh(const Argv& argv) {
   input.remeshing = remeshOptions(args);
   const LoadedSurface s = loadSurface(in, input, opt.progress);
   const RemeshReport& r = *s.remeshing;
-  for (const std::string& w : r.warnings)
-    std::fprintf(stderr, "osdmra: warning: %s: %s\n", in.c_str(), withFlagNames(w).c_str());
+  printRemeshWarnings(in, r);
   writeMesh(out, r.result.mesh);
   if (opt.json) {
-    std::cout << remeshJson(r)
-                     .add("command", "remesh")
-                     .add("input", in)
-                     .add("output", out)
-                     .add("levels", input.remeshing.levels)
-                     .str()
+    std::cout << remeshJson(r).add("command", "remesh").add("input", in).add("output", out).str()
               << "\n";
     return 0;
   }

@@ -78,11 +78,11 @@ Json remeshJson(const RemeshReport& r) {
 
 void printRemesh(const std::string& in, const RemeshReport& r) {
   std::printf(
-      "%s: remeshed %d faces to %d over a base of %d faces (%d feature edges) in %.2f s; "
-      "distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box diagonal; "
-      "%d flipped, %d zero-area triangles, %lld crossing pairs\n",
+      "%s: remeshed %d faces to %d over a base of %d faces split %d times (%d feature edges) "
+      "in %.2f s; distance to the input: RMS %.3g, Hausdorff %.3g of the bounding-box "
+      "diagonal; %d flipped, %d zero-area triangles, %lld crossing pairs\n",
       in.c_str(), r.inputFaces, static_cast<int>(r.result.mesh.F.rows()),
-      static_cast<int>(r.result.base.F.rows()), r.result.featureEdges, r.seconds,
+      static_cast<int>(r.result.base.F.rows()), r.result.levels, r.result.featureEdges, r.seconds,
       r.distance.rmsRelative, r.distance.hausdorffRelative, r.result.flippedTriangles,
       r.result.degenerateTriangles, r.result.selfIntersections);
 }
