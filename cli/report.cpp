@@ -164,7 +164,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("base_faces", t.baseFaces)
                     .add("levels", t.levels)
                     .add("triangles", t.triangles)
-                    .add("defects", t.defects)
+                    .add("crossing_pairs", t.crossingPairs)
                     .add("rms_relative", t.rmsRelative)
                     .add("seconds", t.seconds)
                     .add("kept", static_cast<int>(i) == b.chosen));
@@ -179,7 +179,7 @@ void printBaseTrials(const BudgetLod& b) {
         "base of %d faces (%d asked), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",
         t.baseFaces, t.baseFacesAsked, t.levels, t.triangles, t.rmsRelative, t.seconds,
-        t.defects > 0 ? ", defects left in the remeshing" : "",
+        t.crossingPairs > 0 ? ", crosses itself" : "",
         static_cast<int>(i) == b.chosen ? ", kept" : "");
   }
 }

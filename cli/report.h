@@ -46,8 +46,8 @@ LodReport lodReport(const AnalysedSurface& a, const Approximation& x, double ext
 Json lodJson(const LodReport& r);
 
 /// The base sizes `lod --remesh --budget` tried (lodForBudget): an array of objects
-/// (base faces asked and made, levels, triangles, defects its remeshing left, RMS to
-/// the input, seconds, kept).
+/// (base faces asked and made, levels, triangles, its crossing pairs, RMS to the
+/// input, seconds, kept).
 Json baseTrialsJson(const BudgetLod& b);
 void printBaseTrials(const BudgetLod& b);
 

@@ -256,9 +256,9 @@ struct BudgetSearchOptions {
 struct BaseTrial {
   int baseFacesAsked = 0, baseFaces = 0, levels = 0;
   int triangles = 0;  ///< of its level of detail at the budget
-  /// What its remeshing left that a better layout could avoid: flipped and zero-area
-  /// triangles, and crossing pairs away from the input's own crossings.
-  long long defects = 0;
+  /// Pairs of its level of detail's triangles that cross without being neighbours
+  /// (findSelfIntersections).
+  long long crossingPairs = 0;
   double rmsRelative = 0;  ///< of that level of detail to the input (selection's samples)
   double seconds = 0;      ///< remeshing, analysis, extraction and measurement
 };
@@ -278,7 +278,7 @@ struct BudgetLod {
 /// tiny budget tried once) remeshes it over that base size, analyses the remeshing with
 /// `analysis`, extracts the level of detail of at most `budget` triangles and measures
 /// it against the input; keeps the closest (one within the budget before one over it,
-/// then one without defects left before one with).
+/// then one that does not cross itself before one that does).
 /// The remesher's simplification places the base's vertices and the level of detail
 /// only splits its faces, so the base's size and layout decide much of the error, and
 /// no rule predicts the better one per mesh. Each trial costs one remeshing and

@@ -380,7 +380,7 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   const std::size_t trials = small.out.find("\"base_trials\": [{\"base_faces_asked\": 50,");
   ASSERT_NE(trials, std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
-  EXPECT_NE(small.out.find("\"defects\": 0, \"rms_relative\": ", trials), std::string::npos)
+  EXPECT_NE(small.out.find("\"crossing_pairs\": 0, \"rms_relative\": ", trials), std::string::npos)
       << small.out;
   const std::size_t kept = small.out.find("\"kept\": true", trials);
   ASSERT_NE(kept, std::string::npos) << small.out;
