@@ -48,7 +48,8 @@ const Points& Approximator::levelFit(int j) const {
     const Points start = positions(synthesize(bank_, truncate(d_, keep), d_.levels), nullptr)(
         lod.vertices, Eigen::all);
     const SparseMatrix L = lodInterpolation(h, lod);
-    const Points fit = fitPositions(L, full_.V, start, options_.fit);
+    const Points fit =
+        withoutNewCrossings(lod.compactFaces, start, fitPositions(L, full_.V, start, options_.fit));
     const Points closest =
         fitToClosestPoints(L, lod.compactFaces, *closestTarget_, fit, options_.fit);
     levelFits_[j] = Points::Zero(h.numVertices(j), 3);
@@ -140,7 +141,8 @@ Approximation Approximator::make(const KeepMask& selection) const {
     placeByLevels(a);
   } else if (options_.placement != Placement::Surface) {
     const SparseMatrix L = lodInterpolation(*bank_.hierarchy, a.lod);
-    a.mesh.V = fitPositions(L, full_.V, a.mesh.V, options_.fit);
+    a.mesh.V =
+        withoutNewCrossings(a.mesh.F, a.mesh.V, fitPositions(L, full_.V, a.mesh.V, options_.fit));
     if (options_.placement == Placement::Closest)
       a.mesh.V = fitToClosestPoints(L, a.mesh.F, *closestTarget_, a.mesh.V, options_.fit);
   }

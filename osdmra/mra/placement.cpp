@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/normals.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/mesh/connectivity.h"
 
@@ -383,6 +385,34 @@ Points stepWithoutFolds(const Faces& F, const Points& reference, const Points& x
 
 }  // namespace
 
+Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to) {
+  if (F.rows() == 0) return to;
+  const auto crossings = [&](const Points& V) {
+    TriMesh m;
+    m.V = V;
+    m.F = F;
+    std::vector<std::array<int, 2>> pairs =
+        findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
+  };
+  const std::vector<std::array<int, 2>> allowed = crossings(from);
+  Points trial = to;
+  for (;;) {
+    bool reverted = false;
+    for (const std::array<int, 2>& pair : crossings(trial)) {
+      if (std::binary_search(allowed.begin(), allowed.end(), pair)) continue;
+      for (int f : pair)
+        for (int k = 0; k < 3; ++k)
+          if (trial.row(F(f, k)) != from.row(F(f, k))) {
+            trial.row(F(f, k)) = from.row(F(f, k));
+            reverted = true;
+          }
+    }
+    if (!reverted) return trial;
+  }
+}
+
 ClosestTarget::ClosestTarget(const TriMesh& m)
     : mesh(m), bvh(m), boundary(boundaryHalfedges(m.F, static_cast<int>(m.V.rows()))) {}
 
@@ -404,8 +434,10 @@ Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const Close
   Points x = start;
   Matches m = matchAt(x);
   for (int round = 0; round < options.closestRounds; ++round) {
-    const Points next = stepWithoutFolds(
-        faces, reference, x, pointToPlaneStep(L, faces, target.mesh, L * x, m, x, options));
+    const Points next = withoutNewCrossings(
+        faces, x,
+        stepWithoutFolds(faces, reference, x,
+                         pointToPlaneStep(L, faces, target.mesh, L * x, m, x, options)));
     // A Gauss-Newton step can overshoot where matches jump (a rough surface): a round
     // that does not bring the two surfaces closer ends the rounds.
     Matches nextMatches = matchAt(next);

@@ -86,6 +86,17 @@ struct FitOptions {
 Points fitPositions(const SparseMatrix& L, const Points& target, const Points& start,
                     const FitOptions& options = {});
 
+/// `to`, except that the vertices of every pair of faces that crosses where it did not
+/// cross at `from` (findSelfIntersections) go back to `from`, until no new pair
+/// crosses: that holds by construction once every vertex is back. Fit and Closest move
+/// vertices off the truncated surface to bring the faces closer to the full one, and
+/// on thin parts that moved faces through each other (armadillo's level of detail at
+/// 854 triangles: none crossing on the truncated surface, 3 pairs after the fit, 6
+/// after Closest's rounds); both go through this (each round of Closest from the
+/// last). Levels does not: it looks positions up without the truncated surface, which
+/// is what makes it fast, and can cross (22 pairs there).
+Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to);
+
 /// The surface Placement::Closest matches levels of detail to, with what every fit to
 /// it reuses: its triangle hierarchy, and which of its halfedges (3f + k, from corner k
 /// to corner k + 1 of face f) lie on its boundary. `mesh` must outlive it.

@@ -9,6 +9,7 @@
 
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/distance.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/mra/approximation.h"
 #include "osdmra/mra/placement.h"
@@ -284,4 +285,34 @@ TEST(Placement, LevelsIsClosestOnUniformLevels) {
   }
   EXPECT_EQ(parsePlacement("levels"), Placement::Levels);
   EXPECT_STREQ(placementName(Placement::Levels), "levels");
+}
+
+// A move that would push one face through another is taken back, vertex by vertex of
+// the faces that newly cross; moves that cross nothing stay, and a pair that already
+// crossed at the start does not hold anything back.
+TEST(Placement, WithoutNewCrossingsTakesBackWhatWouldCross) {
+  // Two triangles one above the other (z = 0 and z = 1), and a third far away.
+  Points from(9, 3);
+  from << 0, 0, 0, 1, 0, 0, 0, 1, 0,          //
+      0.2, 0.2, 1, 1.2, 0.2, 1, 0.2, 1.2, 1,  //
+      5, 5, 5, 6, 5, 5, 5, 6, 5;
+  Faces F(3, 3);
+  F << 0, 1, 2, 3, 4, 5, 6, 7, 8;
+  Points to = from;
+  to(3, 2) = -1;  // vertex 3 pushed through the lower triangle
+  to(6, 0) = 4;   // the far triangle only moves
+  const Points out = withoutNewCrossings(F, from, to);
+  EXPECT_EQ(out.row(3), from.row(3));
+  EXPECT_EQ(out.row(6), to.row(6));
+  TriMesh m;
+  m.V = out;
+  m.F = F;
+  EXPECT_EQ(findSelfIntersections(m, 0).count, 0);
+  // Starting from that crossing, the same pair may stay crossed while its vertices move.
+  Points crossed = to;
+  Points further = to;
+  further(4, 2) = 0.9;
+  const Points kept = withoutNewCrossings(F, crossed, further);
+  EXPECT_EQ(kept.row(4), further.row(4));
+  EXPECT_EQ(withoutNewCrossings(Faces(0, 3), from, to), to);
 }
