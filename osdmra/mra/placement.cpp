@@ -391,25 +391,31 @@ Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to)
     TriMesh m;
     m.V = V;
     m.F = F;
-    std::vector<std::array<int, 2>> pairs =
-        findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;
-    std::sort(pairs.begin(), pairs.end());
-    return pairs;
+    return findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;  // sorted
   };
   const std::vector<std::array<int, 2>> allowed = crossings(from);
+  // A vertex of a newly crossing face first moves half as far, then a quarter, ..., and
+  // after kHalvings back to `from`: taken back whole, the fit's gain went with it (a
+  // screwdriver's level of detail at 66 triangles: 0.0077 -> 0.0119 RMS).
+  constexpr int kHalvings = 4;
+  std::vector<int> halvings(static_cast<std::size_t>(from.rows()), 0);
   Points trial = to;
   for (;;) {
-    bool reverted = false;
-    for (const std::array<int, 2>& pair : crossings(trial)) {
-      if (std::binary_search(allowed.begin(), allowed.end(), pair)) continue;
-      for (int f : pair)
-        for (int k = 0; k < 3; ++k)
-          if (trial.row(F(f, k)) != from.row(F(f, k))) {
-            trial.row(F(f, k)) = from.row(F(f, k));
-            reverted = true;
-          }
+    std::vector<char> hit(halvings.size(), 0);
+    for (const std::array<int, 2>& pair : crossings(trial))
+      if (!std::binary_search(allowed.begin(), allowed.end(), pair))
+        for (int f : pair)
+          for (int k = 0; k < 3; ++k)
+            if (trial.row(F(f, k)) != from.row(F(f, k))) hit[F(f, k)] = 1;
+    bool moved = false;
+    for (std::size_t v = 0; v < hit.size(); ++v) {
+      if (!hit[v]) continue;
+      const Eigen::Index i = static_cast<Eigen::Index>(v);
+      const double t = ++halvings[v] > kHalvings ? 0.0 : std::ldexp(1.0, -halvings[v]);
+      trial.row(i) = from.row(i) + t * (to.row(i) - from.row(i));
+      moved = true;
     }
-    if (!reverted) return trial;
+    if (!moved) return trial;
   }
 }
 

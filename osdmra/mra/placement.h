@@ -87,8 +87,9 @@ Points fitPositions(const SparseMatrix& L, const Points& target, const Points& s
                     const FitOptions& options = {});
 
 /// `to`, except that the vertices of every pair of faces that crosses where it did not
-/// cross at `from` (findSelfIntersections) go back to `from`, until no new pair
-/// crosses: that holds by construction once every vertex is back. Fit and Closest move
+/// cross at `from` (findSelfIntersections) move only half as far towards `to`, then a
+/// quarter, ..., and at last stay at `from`, until no new pair crosses: that holds by
+/// construction once every vertex is back. Fit and Closest move
 /// vertices off the truncated surface to bring the faces closer to the full one, and
 /// on thin parts that moved faces through each other (armadillo's level of detail at
 /// 854 triangles: none crossing on the truncated surface, 3 pairs after the fit, 6

@@ -287,9 +287,9 @@ TEST(Placement, LevelsIsClosestOnUniformLevels) {
   EXPECT_STREQ(placementName(Placement::Levels), "levels");
 }
 
-// A move that would push one face through another is taken back, vertex by vertex of
-// the faces that newly cross; moves that cross nothing stay, and a pair that already
-// crossed at the start does not hold anything back.
+// A move that would push one face through another is shortened (half, a quarter, ...,
+// then none), vertex by vertex of the faces that newly cross; moves that cross nothing
+// stay, and a pair that already crossed at the start does not hold anything back.
 TEST(Placement, WithoutNewCrossingsTakesBackWhatWouldCross) {
   // Two triangles one above the other (z = 0 and z = 1), and a third far away.
   Points from(9, 3);
@@ -302,7 +302,9 @@ TEST(Placement, WithoutNewCrossingsTakesBackWhatWouldCross) {
   to(3, 2) = -1;  // vertex 3 pushed through the lower triangle
   to(6, 0) = 4;   // the far triangle only moves
   const Points out = withoutNewCrossings(F, from, to);
-  EXPECT_EQ(out.row(3), from.row(3));
+  // Half the way (z = 0) still meets the lower triangle; a quarter (z = 0.5) does not.
+  EXPECT_EQ(out.row(3), Eigen::RowVector3d(0.2, 0.2, 0.5));
+  EXPECT_EQ(out.row(4), from.row(4));  // its face's other corners had not moved
   EXPECT_EQ(out.row(6), to.row(6));
   TriMesh m;
   m.V = out;
