@@ -393,6 +393,13 @@ std::vector<int> baseSizesToTry(long long budget, const std::vector<int>& diviso
   return asks;
 }
 
+// The base sizes lodForBudget tries for `budget`; throws Error for a budget under 1.
+std::vector<int> checkBudget(const std::string& source, long long budget,
+                             const BudgetSearchOptions& search) {
+  if (budget < 1) throw Error(source + ": a level of detail needs a budget of 1 triangle or more");
+  return baseSizesToTry(budget, search.divisors);
+}
+
 // Whether trial a's level of detail is to be kept over b's: within the budget first,
 // then one that does not cross itself, then the closer to the input (the larger base on
 // a tie, tried first). A remeshing's own defects do not count: they lie in fine
@@ -411,13 +418,22 @@ bool better(const BaseTrial& a, const BaseTrial& b, long long budget) {
 BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions input,
                        const AnalysisOptions& analysis, const BudgetSearchOptions& search,
                        const Progress& progress) {
-  if (budget < 1) throw Error(path + ": a level of detail needs a budget of 1 triangle or more");
-  const std::vector<int> asks = baseSizesToTry(budget, search.divisors);
+  checkBudget(path, budget, search);  // before the reading
   const auto t0 = Clock::now();
   input.remesh = true;
   RemeshReport repairs;
   report(progress, "reading", 0);
   const TriMesh mesh = readRemeshInput(path, input, &repairs);
+  BudgetLod out = lodForBudget(mesh, repairs, path, budget, input, analysis, search, progress);
+  out.surface.seconds = secondsSince(t0);
+  return out;
+}
+
+BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const std::string& path,
+                       long long budget, const InputOptions& input, const AnalysisOptions& analysis,
+                       const BudgetSearchOptions& search, const Progress& progress) {
+  const std::vector<int> asks = checkBudget(path, budget, search);
+  const auto t0 = Clock::now();
   const auto run = [&](int ask, const Progress& p) {
     return tryBase(mesh, repairs, path, budget, ask, input, analysis, search, p);
   };

@@ -286,5 +286,11 @@ struct BudgetLod {
 BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions input,
                        const AnalysisOptions& analysis, const BudgetSearchOptions& search = {},
                        const Progress& progress = {});
+/// The same on a mesh already read and repaired by readRemeshInput (`repairs` its
+/// report), named `path` in messages: a caller making several levels of detail of one
+/// file reads it once.
+BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const std::string& path,
+                       long long budget, const InputOptions& input, const AnalysisOptions& analysis,
+                       const BudgetSearchOptions& search = {}, const Progress& progress = {});
 
 }  // namespace osdmra

@@ -342,24 +342,32 @@ TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
   EXPECT_NE(s.mesh.F.rows(), input.F.rows());
 }
 
+// The set-up the LodForBudget tests share: a torus in a file, remeshed over `levels`
+// levels (each trial the same, as with --levels), distances sampled sparsely.
+struct BudgetCase {
+  explicit BudgetCase(int levels, int samples) : path(dir.file("torus.ply")) {
+    writeMesh(path, shapes::torus(27, 13));
+    input.remeshing.levels = levels;
+    input.distance.samples = 500;
+    search.selection.samples = samples;
+    search.levelsForEachBase = false;
+  }
+  TempDir dir;
+  std::string path;
+  InputOptions input;
+  BudgetSearchOptions search;
+};
+
 // lod --remesh --budget: every base tried is remeshed, cut at the budget and measured
 // against the input; the one kept is the closest of those within the budget, and what
 // is returned is that trial's level of detail, its remeshing and the repaired input.
 TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   const TriMesh input = shapes::torus(27, 13);
-  TempDir dir;
-  const std::string path = dir.file("torus.ply");
-  writeMesh(path, input);
-  InputOptions o;
-  o.remeshing.levels = 3;
-  o.distance.samples = 2000;
+  BudgetCase c3(3, 5000);  // --levels 3
   AnalysisOptions a;
   a.scheme = Scheme::Linear;
-  BudgetSearchOptions search;
-  search.selection.samples = 5000;
-  search.levelsForEachBase = false;  // --levels 3
   const long long budget = 400;
-  const BudgetLod b = lodForBudget(path, budget, o, a, search);
+  const BudgetLod b = lodForBudget(c3.path, budget, c3.input, a, c3.search);
   ASSERT_EQ(b.trials.size(), 2u);
   EXPECT_EQ(b.trials[0].baseFacesAsked, 100);
   EXPECT_EQ(b.trials[1].baseFacesAsked, 25);
@@ -377,13 +385,13 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   EXPECT_EQ(b.analysed->hierarchy().numFaces(3), b.surface.mesh.F.rows());
   EXPECT_EQ(b.surface.remeshing->input.F, input.F);
   // The level of detail is the kept trial's: measured again with its samples, the same.
-  EXPECT_DOUBLE_EQ(surfaceDistance(b.lod.mesh, input, search.selection).rmsRelative,
+  EXPECT_DOUBLE_EQ(surfaceDistance(b.lod.mesh, input, c3.search.selection).rmsRelative,
                    kept.rmsRelative);
   // levelsForEachBase (no --levels): each base made gets the levels that keep it within
   // 2^19 faces, up to the maximum.
-  search.levelsForEachBase = true;
-  o.remeshing.levels = 4;
-  const BudgetLod c = lodForBudget(path, budget, o, a, search);
+  c3.search.levelsForEachBase = true;
+  c3.input.remeshing.levels = 4;
+  const BudgetLod c = lodForBudget(c3.path, budget, c3.input, a, c3.search);
   for (const BaseTrial& t : c.trials)
     EXPECT_EQ(t.levels, levelsWithin(t.baseFaces, 4, kLodRemeshingFaces));
 }
@@ -391,39 +399,23 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
 // Base sizes that coincide on a tiny budget (a quarter and a sixteenth of 8 are both
 // the 4 faces of the smallest base) are tried once; a budget under 1 is refused.
 TEST(LodForBudget, TriesCoincidingSizesOnce) {
-  TempDir dir;
-  const std::string path = dir.file("torus.ply");
-  writeMesh(path, shapes::torus(27, 13));
-  InputOptions o;
-  o.remeshing.levels = 1;
-  o.distance.samples = 500;
-  BudgetSearchOptions search;
-  search.selection.samples = 500;
-  search.levelsForEachBase = false;
-  const BudgetLod b = lodForBudget(path, 8, o, AnalysisOptions{}, search);
+  BudgetCase t(1, 500);
+  const BudgetLod b = lodForBudget(t.path, 8, t.input, AnalysisOptions{}, t.search);
   ASSERT_EQ(b.trials.size(), 1u);
   EXPECT_EQ(b.trials[0].baseFacesAsked, 4);
   EXPECT_GT(b.trials[0].baseFaces, 4);  // a torus needs more: over the budget, said later
   EXPECT_EQ(b.lod.triangles(), b.trials[0].baseFaces);
-  EXPECT_THROW(lodForBudget(path, 0, o, AnalysisOptions{}, search), Error);
-  search.divisors.clear();
-  EXPECT_THROW(lodForBudget(path, 8, o, AnalysisOptions{}, search), Error);
+  EXPECT_THROW(lodForBudget(t.path, 0, t.input, AnalysisOptions{}, t.search), Error);
+  t.search.divisors.clear();
+  EXPECT_THROW(lodForBudget(t.path, 8, t.input, AnalysisOptions{}, t.search), Error);
 }
 
 // The trials run at once or one after the other to the same result.
 TEST(LodForBudget, ConcurrentTrialsGiveTheSequentialResult) {
-  TempDir dir;
-  const std::string path = dir.file("torus.ply");
-  writeMesh(path, shapes::torus(27, 13));
-  InputOptions o;
-  o.remeshing.levels = 2;
-  o.distance.samples = 500;
-  BudgetSearchOptions search;
-  search.selection.samples = 2000;
-  search.levelsForEachBase = false;
-  const BudgetLod at = lodForBudget(path, 300, o, AnalysisOptions{}, search);
-  search.concurrently = false;
-  const BudgetLod after = lodForBudget(path, 300, o, AnalysisOptions{}, search);
+  BudgetCase t(2, 2000);
+  const BudgetLod at = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
+  t.search.concurrently = false;
+  const BudgetLod after = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
   ASSERT_EQ(at.trials.size(), 2u);
   ASSERT_EQ(after.trials.size(), 2u);
   EXPECT_EQ(at.chosen, after.chosen);
@@ -551,4 +543,18 @@ TEST(ChooseCodingScheme, TheSchemeThatRefinedTheSurfaceCodesItShorter) {
     EXPECT_GT(c.loopBytes, 0u);
     EXPECT_GT(c.linearBytes, 0u);
   }
+}
+
+// On a mesh read once (the bench's scans), lodForBudget gives what it gives on the file.
+TEST(LodForBudget, AMeshReadOnceGivesTheFilesResult) {
+  BudgetCase t(2, 2000);
+  RemeshReport repairs;
+  const TriMesh mesh = readRemeshInput(t.path, t.input, &repairs);
+  const BudgetLod fromFile = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
+  const BudgetLod fromMesh =
+      lodForBudget(mesh, repairs, t.path, 300, t.input, AnalysisOptions{}, t.search);
+  EXPECT_EQ(fromFile.chosen, fromMesh.chosen);
+  EXPECT_EQ(fromFile.lod.mesh.V, fromMesh.lod.mesh.V);
+  EXPECT_EQ(fromFile.lod.mesh.F, fromMesh.lod.mesh.F);
+  EXPECT_EQ(fromMesh.surface.remeshing->input.F, mesh.F);
 }
