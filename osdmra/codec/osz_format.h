@@ -1,13 +1,14 @@
 // The .osz container: a progressive wavelet geometry stream (codec.h) in checked
 // chunks.
 //
-// Format version 1. Integers and reals are little-endian; reals are IEEE f32 (the
+// Format version 2 (version 1, before 2026-11-27, coded the signs without a context:
+// its streams are refused, naming both versions). Integers and reals are little-endian; reals are IEEE f32 (the
 // encoder quantises with exactly the f32 values it writes, so both sides compute
 // the same numbers).
 //
 //   offset  size  field
 //   0       8     signature 89 4F 53 5A 0D 0A 1A 0A  ("\x89OSZ\r\n\x1a\n", as PNG's)
-//   8       1     u8 format version (1)
+//   8       1     u8 format version (2)
 //   9             HEAD chunk:
 //           4       tag "HEAD"
 //           4       u32 payload length L (kHeadFixedBytes + the coded base mesh)
@@ -54,7 +55,7 @@
 
 namespace osdmra {
 
-constexpr std::uint8_t kOszFormatVersion = 1;
+constexpr std::uint8_t kOszFormatVersion = 2;
 /// Coefficient bytes per checksummed block.
 constexpr std::size_t kOszBlock = 1024;
 /// Bytes of the HEAD payload before the coded base mesh.

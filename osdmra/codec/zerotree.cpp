@@ -140,6 +140,11 @@ struct Contexts {
   BitModel subtree[kLevelContexts][3][2][3];
   // [level][normal or tangential][first refinement of this node]
   BitModel refinement[kLevelContexts][2][2];
+  // [level][component: normal, along the edge, across it][signs of the significant
+  // neighbours: none, more negative, as many of each, more positive]. Neighbours along
+  // one crease or one curved region share the sign of their normal components.
+  // [parent: insignificant, negative, positive]
+  BitModel sign[kLevelContexts][3][4][3];
 };
 
 // Adds node i to a bit set (one bit per node, 64 per word).
@@ -154,6 +159,9 @@ struct State {
   std::vector<std::vector<std::uint8_t>> subtree, parentSig;
   // Per node: how many of its neighbours are significant, and have significant subtrees.
   std::vector<std::vector<std::uint8_t>> significantNear, subtreeNear;
+  // Per node: the sum of the signs (+1 or -1) of its significant neighbours, and its
+  // parent's sign (0 while the parent is insignificant).
+  std::vector<std::vector<std::int8_t>> signNear, parentSign;
   // The passes visit only the nodes they have a decision for, as bit sets per level
   // (ascending order, as a scan of every node would visit them: the same stream at a
   // fraction of the cost): `active`, reached nodes with a sorting decision left;
@@ -173,6 +181,8 @@ struct State {
       parentSig.emplace_back(n, 0);
       significantNear.emplace_back(n, 0);
       subtreeNear.emplace_back(n, 0);
+      signNear.emplace_back(n, 0);
+      parentSign.emplace_back(n, 0);
       active.emplace_back(words, 0);
       significant.emplace_back(words, 0);
       bornNow.emplace_back(words, 0);
@@ -190,6 +200,7 @@ struct LevelView {
   std::int32_t* high;
   std::int8_t *plane, *sign, *born;
   std::uint8_t *subtree, *parentSig, *significantNear, *subtreeNear;
+  std::int8_t *signNear, *parentSign;
   std::uint64_t *active, *bornNow;
   const std::array<int, 4>* children;  // none at the last level
   const std::array<int, 4>* neighbours;
@@ -203,6 +214,8 @@ struct LevelView {
         parentSig(s.parentSig[j].data()),
         significantNear(s.significantNear[j].data()),
         subtreeNear(s.subtreeNear[j].data()),
+        signNear(s.signNear[j].data()),
+        parentSign(s.parentSign[j].data()),
         active(s.active[j].data()),
         bornNow(s.bornNow[j].data()),
         children(j < t.children.size() ? t.children[j].data() : nullptr),
@@ -228,6 +241,19 @@ void countForNeighbours(const LevelView& L, std::uint8_t* counts, std::size_t i)
     if (e >= 0) ++counts[3 * static_cast<std::size_t>(e) + i % 3];
 }
 
+// Node i's new sign, -1 or +1, added to its neighbours' sums.
+void signForNeighbours(const LevelView& L, std::size_t i, int sign) {
+  for (int e : L.neighbours[i / 3])
+    if (e >= 0) L.signNear[3 * static_cast<std::size_t>(e) + i % 3] += static_cast<std::int8_t>(sign);
+}
+
+// The sign context of node i: none of its neighbours significant, their signs summing
+// below, at or above zero.
+int signContext(const LevelView& L, std::size_t i) {
+  if (L.significantNear[i] == 0) return 0;
+  return L.signNear[i] < 0 ? 1 : L.signNear[i] == 0 ? 2 : 3;
+}
+
 int capped(std::uint8_t count) {
   return count < 2 ? count : 2;
 }
@@ -250,10 +276,15 @@ bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, 
     const int bit = io.significant(m, j, i, p);
     if (io.stopped()) return false;
     if (bit) {
-      const int negative = io.sign(j, i);
+      const int ps = L.parentSign[i] == 0 ? 0 : L.parentSign[i] < 0 ? 1 : 2;
+      const int negative = io.sign(ctx.sign[lc][i % 3][signContext(L, i)][ps], j, i);
       if (io.stopped()) return false;
       L.born[i] = L.plane[i] = static_cast<std::int8_t>(p);
       countForNeighbours(L, L.significantNear, i);
+      signForNeighbours(L, i, negative ? -1 : 1);
+      if (child)
+        for (int c : L.children[i / 3])
+          if (c >= 0) child->parentSign[3 * static_cast<std::size_t>(c) + i % 3] = negative ? -1 : 1;
       L.high[i] = 1;
       L.sign[i] = negative ? -1 : 1;
       mark(L.bornNow, i);
@@ -341,11 +372,7 @@ class EncoderIo {
     return put(m, (magnitude(j, i) >> p) != 0);
   }
   int subtree(BitModel& m, int j, std::size_t i, int p) { return put(m, (below_[j][i] >> p) != 0); }
-  int sign(int j, std::size_t i) {
-    const int negative = q_[j][i] < 0;
-    enc_.encodeEven(negative);
-    return negative;
-  }
+  int sign(BitModel& m, int j, std::size_t i) { return put(m, q_[j][i] < 0); }
   int refinement(BitModel& m, int j, std::size_t i, int p) {
     return put(m, static_cast<int>((magnitude(j, i) >> p) & 1));
   }
@@ -384,7 +411,7 @@ class DecoderIo {
   bool stopped() const { return dec_.exhausted(); }
   int significant(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
   int subtree(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
-  int sign(int, std::size_t) { return dec_.decodeEven(); }
+  int sign(BitModel& m, int, std::size_t) { return dec_.decode(m); }
   int refinement(BitModel& m, int, std::size_t, int) { return dec_.decode(m); }
 
  private:

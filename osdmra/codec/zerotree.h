@@ -24,7 +24,11 @@
 // and of what is already known nearby: the parent's significance, how many of the
 // edges beside it in its triangles are significant (or have significant subtrees),
 // and for tangential components the significance of the normal one, as context
-// modelling does for image wavelets (Taubman's EBCOT, 2000).
+// modelling does for image wavelets (Taubman's EBCOT, 2000). A sign is coded in the
+// context of the signs of the significant edges beside it and of its parent: along a
+// crease or over a curved region neighbours share the sign of their normal
+// components (on spot's J = 5 remesh, +0.1 to +1.5 dB at 1.5-3 bits per vertex; on
+// the bundled head, where Loop's details show no such pattern, the same to 0.03 dB).
 //
 // Truncation: the decoder updates its state only once a whole event is decoded (a
 // significance bit and its sign, a subtree bit, a refinement bit), so a cut stream

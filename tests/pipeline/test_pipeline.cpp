@@ -537,7 +537,12 @@ TEST(ChooseCodingScheme, TheSchemeThatRefinedTheSurfaceCodesItShorter) {
   const CodecOptions codec;
   for (const Scheme scheme : {Scheme::Loop, Scheme::Linear}) {
     SCOPED_TRACE(schemeName(scheme));
-    const TriMesh mesh = subdivide(shapes::icosahedron(), 4, scheme, 0.02, 3);
+    // Offsets well below the other scheme's prediction error: at 0.02 both streams are
+    // mostly noise and the coder's context modelling decides (since the signs have
+    // contexts, the polyhedral scheme coded the Loop surface 0.8% shorter, its details
+    // there having one sign over the convex shape); at 0.005 each scheme's own wins by
+    // 2% (Loop) and 13% (polyhedral).
+    const TriMesh mesh = subdivide(shapes::icosahedron(), 4, scheme, 0.005, 3);
     const CodingSchemeChoice c = chooseCodingScheme(mesh, options, codec);
     EXPECT_EQ(c.scheme, scheme);
     EXPECT_EQ(c.scheme == Scheme::Linear, c.linearBytes < c.loopBytes);
