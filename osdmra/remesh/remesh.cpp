@@ -123,7 +123,8 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
       detectFeatures(input, options.featureAngle, 0.5 * baseEdgeLength(input, options.baseFaces));
   out.featureEdges = static_cast<int>(features.list.size());
 
-  Simplification s = simplify(input, features, options.baseFaces, progress);
+  Simplification s = simplify(input, features, options.baseFaces, progress, kStages,
+                              options.baseWithoutNewCrossings);
   out.base = s.base;
   out.simplificationRounds = s.rounds;
   out.simplificationStage = s.stage;

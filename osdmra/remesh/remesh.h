@@ -52,6 +52,15 @@ struct RemeshOptions {
   /// the resampling. Off by default: on the corpus of docs/REMESH.md, 5 sweeps left
   /// defects on 8 of 90 runs against 4 without, and more clean-up.
   int smoothingSweeps = 0;
+  /// Refuse every removal of the simplification whose new faces would cross a face of
+  /// the shrinking mesh that the faces they replace did not cross, so that the base
+  /// crosses itself no more than the input does (an input that crosses itself keeps
+  /// its pairs, carried along).
+  /// The output's J-fold split is checked either way; this is for what uses the base
+  /// and the coarse levels themselves: a level of detail near the base (lodForBudget
+  /// turns it on). Off by default: it costs a test of each removal's new faces and can
+  /// leave a base larger than asked over thin parts.
+  bool baseWithoutNewCrossings = false;
 };
 
 struct Remeshing {

@@ -4,8 +4,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 
+#include "osdmra/geometry/face_grid.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/removal.h"
 
@@ -38,8 +41,10 @@ struct Plan {
 // The mesh being simplified, with every input vertex's place on it.
 class Simplifier {
  public:
-  Simplifier(const TriMesh& m, const Features& features, const std::vector<StageLimits>& stages)
+  Simplifier(const TriMesh& m, const Features& features, const std::vector<StageLimits>& stages,
+             bool noNewCrossings)
       : V_(m.V),
+        noNewCrossings_(noNewCrossings),
         features_(features.edges),
         corner_(features.corner),
         fold_(features.fold),
@@ -77,6 +82,7 @@ class Simplifier {
     kShape,
     kPinch,
     kDistortion,
+    kCrossing,
     kTopology,
     kCorner,
     kFeatureSide,
@@ -98,11 +104,16 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
+  bool crossesMesh(const Plan& p) const;
+  void indexFaces();
   void commit(int v, const Plan& p);
   std::string whyKept();
   const StageLimits& limits() const { return stages_[stage_]; }
 
   const Points& V_;
+  bool noNewCrossings_ = false;
+  std::unique_ptr<FaceGrid> grid_;  // noNewCrossings_: the live faces, rebuilt each round
+  mutable std::vector<int> near_;
   Faces inputF_;
   std::vector<std::array<int, 3>> faces_;
   std::vector<char> faceAlive_;
@@ -286,7 +297,49 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   refusal_ = std::max(refusal_, static_cast<int>(kDistortion));
   if (!placePoints(v, p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
-  return worst <= limits().anisotropy;
+  if (worst > limits().anisotropy) return false;
+  refusal_ = std::max(refusal_, static_cast<int>(kCrossing));
+  return !crossesMesh(p);
+}
+
+// With noNewCrossings_: whether a new face of the plan would meet a live face g of the
+// mesh (other than the ring's, which it replaces) where it should not
+// (trianglesMeet), and no face of the ring met g already. Refusing such removals
+// keeps the crossing pairs of the mesh those it had at the start, by construction: a
+// coarse base over a thin part otherwise can cross itself (the lion's over 105 faces:
+// 3 pairs), and a level of detail near the base inherits it; where the input crosses
+// itself, the pairs there are carried along rather than refused.
+bool Simplifier::crossesMesh(const Plan& p) const {
+  if (!grid_) return false;
+  for (const auto& q : p.triangles) {
+    const std::array<int, 3> t = {p.vertex(q[0]), p.vertex(q[1]), p.vertex(q[2])};
+    grid_->near(t, near_);
+    for (int g : near_) {
+      if (!faceAlive_[g] ||
+          std::find(p.ring.faces.begin(), p.ring.faces.end(), g) != p.ring.faces.end())
+        continue;
+      if (!trianglesMeet(V_, t, faces_[g])) continue;
+      const bool inherited = std::any_of(p.ring.faces.begin(), p.ring.faces.end(), [&](int f) {
+        return trianglesMeet(V_, faces_[f], faces_[g]);
+      });
+      if (!inherited) return true;
+    }
+  }
+  return false;
+}
+
+// The live faces in a grid of cells the size of their mean edge (a face meets a few
+// cells, a cell holds a few faces), made again each round as the faces grow.
+void Simplifier::indexFaces() {
+  double length = 0;
+  int edges = 0;
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    if (faceAlive_[f])
+      for (int k = 0; k < 3; ++k, ++edges)
+        length += (V_.row(faces_[f][k]) - V_.row(faces_[f][(k + 1) % 3])).norm();
+  grid_ = std::make_unique<FaceGrid>(V_, edges > 0 && length > 0 ? length / edges : 1.0);
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    if (faceAlive_[f]) grid_->insert(static_cast<int>(f), faces_[f]);
 }
 
 // Every parameterised point of the old faces, and v itself (the origin), at its place
@@ -382,6 +435,7 @@ void Simplifier::commit(int v, const Plan& p) {
   for (std::size_t q = 0; q < p.triangles.size(); ++q) {
     const auto& t = p.triangles[q];
     newFaces.push_back(addFace({p.vertex(t[0]), p.vertex(t[1]), p.vertex(t[2])}));
+    if (grid_) grid_->insert(newFaces.back(), faces_[newFaces.back()]);
     removalOf_.back() = record;
     triangleOf_.back() = static_cast<int>(q);
   }
@@ -437,6 +491,7 @@ std::vector<Simplifier::Candidate> Simplifier::candidates() const {
 // One round: an independent set of removals, by priority. Returns how many were made.
 int Simplifier::removeRound(int target, int round, const Progress& progress, int start) {
   std::vector<Candidate> cands = candidates();
+  if (noNewCrossings_) indexFaces();
   double maxArea = 0, maxCurv = 0;
   for (const Candidate& c : cands) {
     maxArea = std::max(maxArea, c.area);
@@ -509,6 +564,7 @@ std::string Simplifier::whyKept() {
       "no retriangulation of their one-ring has every angle above the last stage's bound",
       "every retriangulation would join two vertices already joined (a pinch)",
       "removing them would distort the parameterisation beyond the last stage's bounds",
+      "their removal would make the base cross itself",
       "their removal would change the topology (a one-ring of three faces, or not a disc)",
       "they are corners or ends of feature lines, corners of boundaries, or have over 24 faces",
       "a feature line through them would keep one face on a side",
@@ -591,8 +647,9 @@ SurfacePoint traceToInput(const History& h, int baseFace, const std::array<doubl
 }
 
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
-                        const Progress& progress, const std::vector<StageLimits>& stages) {
-  Simplifier s(input, features, stages);
+                        const Progress& progress, const std::vector<StageLimits>& stages,
+                        bool noNewCrossings) {
+  Simplifier s(input, features, stages, noNewCrossings);
   Simplification out;
   s.run(targetFaces, progress, out);
   s.result(out);

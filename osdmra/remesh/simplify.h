@@ -98,8 +98,11 @@ struct Simplification {
 
 /// Simplifies a valid mesh to at most `targetFaces` faces, or as far as the stages
 /// allow.
+/// `noNewCrossings`: refuse a removal whose new faces would cross a live face of the
+/// mesh (RemeshOptions::baseWithoutNewCrossings).
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
                         const Progress& progress = {},
-                        const std::vector<StageLimits>& stages = kStages);
+                        const std::vector<StageLimits>& stages = kStages,
+                        bool noNewCrossings = false);
 
 }  // namespace osdmra::remeshing

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/features.h"
@@ -199,5 +200,26 @@ TEST(Simplify, EveryInputTriangleHasAChartOnACoarseInput) {
     for (int c = 0; c < 3; ++c) corners[c] = input.V.row(input.F(t, c)).transpose();
     EXPECT_LT(anisotropy(corners, image), std::numeric_limits<double>::infinity())
         << "input triangle " << t;
+  }
+}
+
+// A thin bowl (a flattened sphere, bent): coarse faces joining its rim cut through the
+// other side, so the base crosses itself unless each removal is checked against the
+// shrinking mesh (noNewCrossings); with the check it crosses nowhere, at the same size.
+TEST(Simplify, NoNewCrossingsKeepsACoarseBaseOfAThinBowlFromCrossingItself) {
+  TriMesh bowl = subdivide(shapes::icosahedron(), 4, Scheme::Loop);
+  for (Eigen::Index v = 0; v < bowl.V.rows(); ++v)
+    bowl.V(v, 2) = 0.02 * bowl.V(v, 2) + bowl.V(v, 0) * bowl.V(v, 0) + bowl.V(v, 1) * bowl.V(v, 1);
+  ASSERT_EQ(findSelfIntersections(bowl, 0).count, 0);
+  const Features features = detectFeatures(bowl, 70.0);
+  for (int target : {12, 40}) {
+    SCOPED_TRACE(target);
+    const Simplification loose = simplify(bowl, features, target);
+    const Simplification checked = simplify(bowl, features, target, {}, kStages, true);
+    EXPECT_GT(findSelfIntersections(loose.base, 0).count, 0);  // what the check is for
+    EXPECT_EQ(findSelfIntersections(checked.base, 0).count, 0);
+    EXPECT_EQ(checked.base.F.rows(), target);
+    validate(checked.base, "base");
+    EXPECT_EQ(topology(checked.base), topology(bowl));
   }
 }

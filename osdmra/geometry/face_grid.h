@@ -1,0 +1,44 @@
+// A uniform grid over triangles, by the cells their bounding boxes meet: which faces
+// of a mesh that changes as it is built or simplified lie near a triangle, where a
+// bounding volume hierarchy (distance.h) would have to be rebuilt at every change.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "osdmra/mesh/mesh.h"
+
+namespace osdmra {
+
+class FaceGrid {
+ public:
+  /// Cells of side `cell` (> 0, finite) over positions `V`, which must outlive the
+  /// grid. A cell about the size of the faces keeps both a face's cells and a cell's
+  /// faces few.
+  FaceGrid(const Points& V, double cell);
+
+  /// Adds face `id` with corners `t` (rows of V). Faces are never taken out: a caller
+  /// whose faces die skips them as it visits.
+  void insert(int id, const std::array<int, 3>& t);
+
+  /// The ids of the faces whose cells meet those of triangle t's bounding box, each
+  /// once, appended to `out` (cleared first).
+  void near(const std::array<int, 3>& t, std::vector<int>& out) const;
+
+ private:
+  // The range of cells a triangle's box meets, clamped so that a huge face against a
+  // small cell costs at most kMaxSpan cells a side.
+  static constexpr int kMaxSpan = 64;
+  std::array<std::array<std::int64_t, 3>, 2> span(const std::array<int, 3>& t) const;
+  static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z);
+
+  const Points& V_;
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+  mutable std::vector<int> seen_;  // per id: last query's stamp
+  mutable int stamp_ = 0;
+};
+
+}  // namespace osdmra

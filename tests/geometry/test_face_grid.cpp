@@ -1,0 +1,55 @@
+// The face grid (face_grid.h): a query returns every face whose bounding box meets
+// the triangle's, as brute force finds them, each once; a bad cell size is refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "osdmra/base/error.h"
+#include "osdmra/geometry/face_grid.h"
+
+using namespace osdmra;
+
+TEST(FaceGrid, FindsEveryFaceWhoseBoxMeetsTheQuerysAsBruteForceDoes) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> at(-1.0, 1.0), size(0.0, 0.3);
+  const int n = 300;
+  Points V(3 * n, 3);
+  std::vector<std::array<int, 3>> faces(n);
+  for (int f = 0; f < n; ++f) {
+    const Eigen::RowVector3d c(at(rng), at(rng), at(rng));
+    for (int k = 0; k < 3; ++k) {
+      V.row(3 * f + k) = c + Eigen::RowVector3d(size(rng), size(rng), size(rng));
+      faces[f][k] = 3 * f + k;
+    }
+  }
+  auto box = [&](const std::array<int, 3>& t, int c, bool hi) {
+    const double a = V(t[0], c), b = V(t[1], c), d = V(t[2], c);
+    return hi ? std::max({a, b, d}) : std::min({a, b, d});
+  };
+  for (double cell : {0.05, 0.2, 3.0}) {
+    SCOPED_TRACE(cell);
+    FaceGrid grid(V, cell);
+    for (int f = 0; f < n; ++f) grid.insert(f, faces[f]);
+    std::vector<int> near;
+    for (int q = 0; q < n; q += 7) {
+      grid.near(faces[q], near);
+      std::vector<int> sorted = near;
+      std::sort(sorted.begin(), sorted.end());
+      EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end());  // once each
+      for (int g = 0; g < n; ++g) {
+        bool meet = true;
+        for (int c = 0; c < 3; ++c)
+          meet = meet && box(faces[g], c, false) <= box(faces[q], c, true) &&
+                 box(faces[q], c, false) <= box(faces[g], c, true);
+        if (meet) {
+          EXPECT_TRUE(std::binary_search(sorted.begin(), sorted.end(), g)) << q << " " << g;
+        }
+      }
+    }
+  }
+  EXPECT_THROW(FaceGrid(V, 0.0), Error);
+  EXPECT_THROW(FaceGrid(V, std::numeric_limits<double>::infinity()), Error);
+}
