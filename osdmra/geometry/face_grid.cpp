@@ -27,7 +27,7 @@ std::array<std::array<std::int64_t, 3>, 2> FaceGrid::span(const std::array<int, 
     const double lo = std::min({V_(t[0], c), V_(t[1], c), V_(t[2], c)});
     const double hi = std::max({V_(t[0], c), V_(t[1], c), V_(t[2], c)});
     s[0][c] = cellIndex(lo / cell_);
-    s[1][c] = std::min(cellIndex(hi / cell_), s[0][c] + kMaxSpan);
+    s[1][c] = cellIndex(hi / cell_);
   }
   return s;
 }
@@ -40,28 +40,45 @@ std::uint64_t FaceGrid::key(std::int64_t x, std::int64_t y, std::int64_t z) {
          (static_cast<std::uint64_t>(z) & m) << 42;
 }
 
+bool FaceGrid::huge(const std::array<std::array<std::int64_t, 3>, 2>& s) {
+  for (int c = 0; c < 3; ++c)
+    if (s[1][c] - s[0][c] > kMaxSpan) return true;
+  return false;
+}
+
 void FaceGrid::insert(int id, const std::array<int, 3>& t) {
+  if (id >= static_cast<int>(seen_.size())) seen_.resize(static_cast<std::size_t>(id) + 1, -1);
+  all_.push_back(id);
   const auto s = span(t);
+  if (huge(s)) {
+    huge_.push_back(id);
+    return;
+  }
   for (std::int64_t x = s[0][0]; x <= s[1][0]; ++x)
     for (std::int64_t y = s[0][1]; y <= s[1][1]; ++y)
       for (std::int64_t z = s[0][2]; z <= s[1][2]; ++z) cells_[key(x, y, z)].push_back(id);
-  if (id >= static_cast<int>(seen_.size())) seen_.resize(static_cast<std::size_t>(id) + 1, -1);
 }
 
 void FaceGrid::near(const std::array<int, 3>& t, std::vector<int>& out) const {
   out.clear();
   ++stamp_;
+  auto add = [&](int id) {
+    if (seen_[static_cast<std::size_t>(id)] == stamp_) return;
+    seen_[static_cast<std::size_t>(id)] = stamp_;
+    out.push_back(id);
+  };
   const auto s = span(t);
+  if (huge(s)) {
+    for (int id : all_) add(id);
+    return;
+  }
+  for (int id : huge_) add(id);
   for (std::int64_t x = s[0][0]; x <= s[1][0]; ++x)
     for (std::int64_t y = s[0][1]; y <= s[1][1]; ++y)
       for (std::int64_t z = s[0][2]; z <= s[1][2]; ++z) {
         const auto it = cells_.find(key(x, y, z));
         if (it == cells_.end()) continue;
-        for (int id : it->second)
-          if (seen_[static_cast<std::size_t>(id)] != stamp_) {
-            seen_[static_cast<std::size_t>(id)] = stamp_;
-            out.push_back(id);
-          }
+        for (int id : it->second) add(id);
       }
 }
 

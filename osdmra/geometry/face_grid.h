@@ -28,15 +28,18 @@ class FaceGrid {
   void near(const std::array<int, 3>& t, std::vector<int>& out) const;
 
  private:
-  // The range of cells a triangle's box meets, clamped so that a huge face against a
-  // small cell costs at most kMaxSpan cells a side.
+  // The range of cells a triangle's box meets. A face meeting more than kMaxSpan
+  // cells a side is kept apart, in every query's answer, rather than in thousands of
+  // cells; a query that large returns every face.
   static constexpr int kMaxSpan = 64;
   std::array<std::array<std::int64_t, 3>, 2> span(const std::array<int, 3>& t) const;
+  static bool huge(const std::array<std::array<std::int64_t, 3>, 2>& s);
   static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z);
 
   const Points& V_;
   double cell_;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+  std::vector<int> huge_, all_;    // faces kept apart; every face (for huge queries)
   mutable std::vector<int> seen_;  // per id: last query's stamp
   mutable int stamp_ = 0;
 };

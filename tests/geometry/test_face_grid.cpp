@@ -1,5 +1,6 @@
 // The face grid (face_grid.h): a query returns every face whose bounding box meets
-// the triangle's, as brute force finds them, each once; a bad cell size is refused.
+// the triangle's, as brute force finds them, each once, a face much larger than the
+// cells included; a bad cell size is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,8 +21,11 @@ TEST(FaceGrid, FindsEveryFaceWhoseBoxMeetsTheQuerysAsBruteForceDoes) {
   std::vector<std::array<int, 3>> faces(n);
   for (int f = 0; f < n; ++f) {
     const Eigen::RowVector3d c(at(rng), at(rng), at(rng));
+    // Face 0 spans the whole cloud: over kMaxSpan cells a side at the small cells.
+    const double scale = f == 0 ? 30.0 : 1.0;
     for (int k = 0; k < 3; ++k) {
-      V.row(3 * f + k) = c + Eigen::RowVector3d(size(rng), size(rng), size(rng));
+      V.row(3 * f + k) = c + scale * Eigen::RowVector3d(size(rng), size(rng), size(rng)) -
+                         (f == 0 ? Eigen::RowVector3d(4.5, 4.5, 4.5) : Eigen::RowVector3d::Zero());
       faces[f][k] = 3 * f + k;
     }
   }
