@@ -234,17 +234,13 @@ bool forEachMember(const std::vector<std::uint64_t>& set, Visit&& visit) {
 
 // Node i has become significant (or its subtree has): each of its neighbours (same
 // component, the edges beside it in its triangles; the relation is symmetric) counts
-// one more such neighbour. The counts are kept as nodes change rather than gathered at
-// every decision; the contexts cap them at 2.
-void countForNeighbours(const LevelView& L, std::uint8_t* counts, std::size_t i) {
+// one more such neighbour, or adds its sign (`delta`) to their sums. The counts and sums
+// are kept as nodes change rather than gathered at every decision; the contexts cap
+// the counts at 2.
+template <class T>
+void addForNeighbours(const LevelView& L, T* values, std::size_t i, int delta = 1) {
   for (int e : L.neighbours[i / 3])
-    if (e >= 0) ++counts[3 * static_cast<std::size_t>(e) + i % 3];
-}
-
-// Node i's new sign, -1 or +1, added to its neighbours' sums.
-void signForNeighbours(const LevelView& L, std::size_t i, int sign) {
-  for (int e : L.neighbours[i / 3])
-    if (e >= 0) L.signNear[3 * static_cast<std::size_t>(e) + i % 3] += static_cast<std::int8_t>(sign);
+    if (e >= 0) values[3 * static_cast<std::size_t>(e) + i % 3] += static_cast<T>(delta);
 }
 
 // The sign context of node i: none of its neighbours significant, their signs summing
@@ -280,13 +276,14 @@ bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, 
       const int negative = io.sign(ctx.sign[lc][i % 3][signContext(L, i)][ps], j, i);
       if (io.stopped()) return false;
       L.born[i] = L.plane[i] = static_cast<std::int8_t>(p);
-      countForNeighbours(L, L.significantNear, i);
-      signForNeighbours(L, i, negative ? -1 : 1);
+      const std::int8_t sign = negative ? -1 : 1;
+      addForNeighbours(L, L.significantNear, i);
+      addForNeighbours(L, L.signNear, i, sign);
       if (child)
         for (int c : L.children[i / 3])
-          if (c >= 0) child->parentSign[3 * static_cast<std::size_t>(c) + i % 3] = negative ? -1 : 1;
+          if (c >= 0) child->parentSign[3 * static_cast<std::size_t>(c) + i % 3] = sign;
       L.high[i] = 1;
-      L.sign[i] = negative ? -1 : 1;
+      L.sign[i] = sign;
       mark(L.bornNow, i);
     }
   }
@@ -296,7 +293,7 @@ bool sortNode(const LevelView& L, const LevelView* child, int j, std::size_t i, 
     if (io.stopped()) return false;
     if (bit) {
       L.subtree[i] = 1;
-      countForNeighbours(L, L.subtreeNear, i);
+      addForNeighbours(L, L.subtreeNear, i);
       for (int c : L.children[i / 3])
         if (c >= 0) {
           const std::size_t k = 3 * static_cast<std::size_t>(c) + i % 3;

@@ -383,13 +383,10 @@ Points stepWithoutFolds(const Faces& F, const Points& reference, const Points& x
   }
 }
 
-}  // namespace
-
-namespace {
-
 using CrossingPairs = std::vector<std::array<int, 2>>;
 
 CrossingPairs crossingPairs(const Faces& F, const Points& V) {
+  if (F.rows() == 0) return {};  // nothing to cross (findSelfIntersections refuses it)
   TriMesh m;
   m.V = V;
   m.F = F;
@@ -431,7 +428,6 @@ Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to,
 }  // namespace
 
 Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to) {
-  if (F.rows() == 0) return to;
   CrossingPairs pairs = crossingPairs(F, from);
   return withoutNewCrossings(F, from, to, pairs);
 }
@@ -456,13 +452,12 @@ Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const Close
   };
   Points x = start;
   Matches m = matchAt(x);
-  CrossingPairs crossings = faces.rows() > 0 ? crossingPairs(faces, x) : CrossingPairs{};
+  CrossingPairs crossings = crossingPairs(faces, x);
   for (int round = 0; round < options.closestRounds; ++round) {
     const Points step = stepWithoutFolds(
         faces, reference, x, pointToPlaneStep(L, faces, target.mesh, L * x, m, x, options));
     CrossingPairs nextCrossings = crossings;
-    const Points next =
-        faces.rows() > 0 ? withoutNewCrossings(faces, x, step, nextCrossings) : step;
+    const Points next = withoutNewCrossings(faces, x, step, nextCrossings);
     // A Gauss-Newton step can overshoot where matches jump (a rough surface): a round
     // that does not bring the two surfaces closer ends the rounds.
     Matches nextMatches = matchAt(next);
