@@ -21,15 +21,20 @@ std::int64_t cellIndex(double x) {
 }
 }  // namespace
 
-std::array<std::array<std::int64_t, 3>, 2> FaceGrid::span(const std::array<int, 3>& t) const {
+std::array<std::array<std::int64_t, 3>, 2> FaceGrid::span(const Eigen::Vector3d& lo,
+                                                          const Eigen::Vector3d& hi) const {
   std::array<std::array<std::int64_t, 3>, 2> s{};
   for (int c = 0; c < 3; ++c) {
-    const double lo = std::min({V_(t[0], c), V_(t[1], c), V_(t[2], c)});
-    const double hi = std::max({V_(t[0], c), V_(t[1], c), V_(t[2], c)});
-    s[0][c] = cellIndex(lo / cell_);
-    s[1][c] = cellIndex(hi / cell_);
+    s[0][c] = cellIndex(lo[c] / cell_);
+    s[1][c] = cellIndex(hi[c] / cell_);
   }
   return s;
+}
+
+std::array<std::array<std::int64_t, 3>, 2> FaceGrid::span(const std::array<int, 3>& t) const {
+  const Eigen::Vector3d a = V_.row(t[0]).transpose(), b = V_.row(t[1]).transpose(),
+                        c = V_.row(t[2]).transpose();
+  return span(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
 }
 
 // Coordinates wrap at 2^21 cells a side: faces far apart may share a key, which only
@@ -56,10 +61,49 @@ void FaceGrid::insert(int id, const std::array<int, 3>& t) {
   }
   for (std::int64_t x = s[0][0]; x <= s[1][0]; ++x)
     for (std::int64_t y = s[0][1]; y <= s[1][1]; ++y)
-      for (std::int64_t z = s[0][2]; z <= s[1][2]; ++z) cells_[key(x, y, z)].push_back(id);
+      for (std::int64_t z = s[0][2]; z <= s[1][2]; ++z) {
+        if (2 * (cells_ + 1) > slotKey_.size()) grow();
+        const std::uint64_t k = key(x, y, z);
+        const std::size_t i = slot(k);
+        if (slotKey_[i] == kEmpty) {
+          slotKey_[i] = k;
+          slotHead_[i] = -1;
+          ++cells_;
+        }
+        entries_.push_back({id, slotHead_[i]});
+        slotHead_[i] = static_cast<int>(entries_.size()) - 1;
+      }
+}
+
+std::size_t FaceGrid::slot(std::uint64_t key) const {
+  const std::size_t mask = slotKey_.size() - 1;
+  // Fibonacci hashing spreads the packed coordinates over the table.
+  std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  while (slotKey_[i] != kEmpty && slotKey_[i] != key) i = (i + 1) & mask;
+  return i;
+}
+
+void FaceGrid::grow() {
+  std::vector<std::uint64_t> keys(std::max<std::size_t>(64, 2 * slotKey_.size()), kEmpty);
+  std::vector<int> heads(keys.size(), -1);
+  keys.swap(slotKey_);
+  heads.swap(slotHead_);
+  for (std::size_t j = 0; j < keys.size(); ++j)
+    if (keys[j] != kEmpty) {
+      const std::size_t i = slot(keys[j]);
+      slotKey_[i] = keys[j];
+      slotHead_[i] = heads[j];
+    }
 }
 
 void FaceGrid::near(const std::array<int, 3>& t, std::vector<int>& out) const {
+  const Eigen::Vector3d a = V_.row(t[0]).transpose(), b = V_.row(t[1]).transpose(),
+                        c = V_.row(t[2]).transpose();
+  near(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), out);
+}
+
+void FaceGrid::near(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                    std::vector<int>& out) const {
   out.clear();
   ++stamp_;
   auto add = [&](int id) {
@@ -67,7 +111,7 @@ void FaceGrid::near(const std::array<int, 3>& t, std::vector<int>& out) const {
     seen_[static_cast<std::size_t>(id)] = stamp_;
     out.push_back(id);
   };
-  const auto s = span(t);
+  const auto s = span(lo, hi);
   if (huge(s)) {
     for (int id : all_) add(id);
     return;
@@ -76,9 +120,11 @@ void FaceGrid::near(const std::array<int, 3>& t, std::vector<int>& out) const {
   for (std::int64_t x = s[0][0]; x <= s[1][0]; ++x)
     for (std::int64_t y = s[0][1]; y <= s[1][1]; ++y)
       for (std::int64_t z = s[0][2]; z <= s[1][2]; ++z) {
-        const auto it = cells_.find(key(x, y, z));
-        if (it == cells_.end()) continue;
-        for (int id : it->second) add(id);
+        if (slotKey_.empty()) return;
+        const std::size_t i = slot(key(x, y, z));
+        if (slotKey_[i] == kEmpty) continue;
+        for (int e = slotHead_[i]; e >= 0; e = entries_[static_cast<std::size_t>(e)][1])
+          add(entries_[static_cast<std::size_t>(e)][0]);
       }
 }
 

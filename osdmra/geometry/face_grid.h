@@ -5,7 +5,6 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "osdmra/mesh/mesh.h"
@@ -27,18 +26,34 @@ class FaceGrid {
   /// once, appended to `out` (cleared first).
   void near(const std::array<int, 3>& t, std::vector<int>& out) const;
 
+  /// The same for the box from `lo` to `hi`.
+  void near(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const;
+
  private:
   // The range of cells a triangle's box meets. A face meeting more than kMaxSpan
   // cells a side is kept apart, in every query's answer, rather than in thousands of
   // cells; a query that large returns every face.
   static constexpr int kMaxSpan = 64;
+  std::array<std::array<std::int64_t, 3>, 2> span(const Eigen::Vector3d& lo,
+                                                  const Eigen::Vector3d& hi) const;
   std::array<std::array<std::int64_t, 3>, 2> span(const std::array<int, 3>& t) const;
   static bool huge(const std::array<std::array<std::int64_t, 3>, 2>& s);
   static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z);
+  // The slot of `key` in the open-addressed table: its own, or the empty one where it
+  // would go.
+  std::size_t slot(std::uint64_t key) const;
+  void grow();
 
   const Points& V_;
   double cell_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+  // Cells in an open-addressed table (linear probing, at most half full), each the head
+  // of a list of entries {face, next entry}: one allocation per doubling, not per cell,
+  // as the grid is rebuilt often.
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};  // key() never makes it
+  std::vector<std::uint64_t> slotKey_;
+  std::vector<int> slotHead_;
+  std::size_t cells_ = 0;
+  std::vector<std::array<int, 2>> entries_;
   std::vector<int> huge_, all_;    // faces kept apart; every face (for huge queries)
   mutable std::vector<int> seen_;  // per id: last query's stamp
   mutable int stamp_ = 0;

@@ -93,14 +93,60 @@ bool vertexIn(const std::vector<Laid>& laid, int v, Vec2& at) {
   return false;
 }
 
+namespace {
+
+bool sameFace(const std::array<int, 3>& f, const std::array<int, 3>& g) {
+  return f[0] == g[0] && f[1] == g[1] && f[2] == g[2];
+}
+
+// The chart when the corners lie in one face, or in two that share an edge (points in
+// them, or their own corners): those faces laid flat, the second hinged to the first, as
+// the general case below would lay them, without its lists. Once the faces hold many
+// points this is most triangles. False when the corners need more faces.
+bool imageInFewFaces(const Points& V, const std::array<Placed, 3>& at, std::array<Vec2, 3>& image) {
+  std::array<Laid, 2> laid;
+  int n = 0;
+  for (const Placed& c : at)
+    if (!c.isVertex && (n == 0 || !sameFace(c.face, laid[0].face)) &&
+        (n < 2 || !sameFace(c.face, laid[1].face))) {
+      if (n == 2) return false;
+      laid[n++].face = c.face;
+    }
+  if (n == 0) return false;
+  auto cornerOf = [](const Laid& l, int v) {
+    return static_cast<int>(std::find(l.face.begin(), l.face.end(), v) - l.face.begin());
+  };
+  for (const Placed& c : at)
+    if (c.isVertex && cornerOf(laid[0], c.vertex) == 3 &&
+        (n == 1 || cornerOf(laid[1], c.vertex) == 3))
+      return false;
+  const std::array<int, 3>& f = laid[0].face;
+  laid[0].pos = layFlat(V.row(f[0]).transpose(), V.row(f[1]).transpose(), V.row(f[2]).transpose());
+  if (n == 2 && !hinge(V, laid[0], std::array<int, 3>(laid[1].face), laid[1])) return false;
+  for (int k = 0; k < 3; ++k) {
+    const Placed& c = at[k];
+    if (c.isVertex) {
+      const int i = cornerOf(laid[0], c.vertex);
+      image[k] = i < 3 ? laid[0].pos[i] : laid[1].pos[cornerOf(laid[1], c.vertex)];
+    } else {
+      image[k] = pointIn(sameFace(c.face, laid[0].face) ? laid[0] : laid[1], c.bary);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
                 std::array<Vec2, 3>& image) {
+  if (imageInFewFaces(V, at, image)) return true;
   auto inFace = [](int v, const std::array<int, 3>& f) {
     return std::count(f.begin(), f.end(), v) == 1;
   };
   std::vector<std::array<int, 3>> faces;  // the corners' first, then the ones around
   auto add = [&](const std::array<int, 3>& f) {
-    if (std::find(faces.begin(), faces.end(), f) == faces.end()) faces.push_back(f);
+    if (std::none_of(faces.begin(), faces.end(), [&](const auto& g) { return sameFace(f, g); }))
+      faces.push_back(f);
   };
   for (const Placed& c : at)
     if (!c.isVertex) add(c.face);
@@ -138,9 +184,9 @@ bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAro
       vertexIn(laid, c.vertex, image[k]);
       continue;
     }
-    image[k] = pointIn(
-        *std::find_if(laid.begin(), laid.end(), [&](const Laid& l) { return l.face == c.face; }),
-        c.bary);
+    image[k] = pointIn(*std::find_if(laid.begin(), laid.end(),
+                                     [&](const Laid& l) { return sameFace(l.face, c.face); }),
+                       c.bary);
   }
   return true;
 }

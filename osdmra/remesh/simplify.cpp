@@ -1,10 +1,12 @@
 #include "osdmra/remesh/simplify.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <string>
 
 #include "osdmra/geometry/face_grid.h"
@@ -104,7 +106,10 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
+  using Box = Eigen::AlignedBox3d;
   bool crossesMesh(const Plan& p) const;
+  void gatherNear(const Ring& r) const;
+  Box boxOf(const std::array<int, 3>& t) const;
   void indexFaces();
   void commit(int v, const Plan& p);
   std::string whyKept();
@@ -113,7 +118,11 @@ class Simplifier {
   const Points& V_;
   bool noNewCrossings_ = false;
   std::unique_ptr<FaceGrid> grid_;  // noNewCrossings_: the live faces, rebuilt each round
-  mutable std::vector<int> near_;
+  // crossesMesh's candidates for the current plan() (plansMade_ counts the calls).
+  mutable std::vector<std::pair<int, Box>> near_;
+  mutable std::vector<int> nearIds_;
+  mutable int nearOfPlan_ = -1;
+  int plansMade_ = 0;
   Faces inputF_;
   std::vector<std::array<int, 3>> faces_;
   std::vector<char> faceAlive_;
@@ -205,6 +214,7 @@ bool Simplifier::hasEdge(int a, int b) const {
 // Flattens v's ring, retriangulates it and certifies the result (removal.h); then
 // the points of the old faces are placed in the new ones and the distortion checked.
 bool Simplifier::plan(int v, Ring r, Plan& p) {
+  ++plansMade_;
   refusal_ = kCorner;
   if (!removable(v, r)) return false;
   refusal_ = kShape;
@@ -249,21 +259,18 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
     refusal_ = kTopology;  // a ring of three: removing v would close a tetrahedron's hole
     return false;
   }
-  // Of the fans that pass, the one from the corner of lowest valence (kept whole: a
-  // later trial overwrites the plan's placed points).
-  std::size_t best = std::numeric_limits<std::size_t>::max();
-  Plan chosen;
-  for (int from = 0; from < corners; ++from) {
+  // Of the fans that pass, the one from the corner of lowest valence (the first such
+  // corner on a tie): tried in that order, the first that passes.
+  std::vector<int> order(static_cast<std::size_t>(corners));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
+    return vertFaces_[p.vertex(x)].size() < vertFaces_[p.vertex(y)].size();
+  });
+  for (int from : order) {
     p.triangles = fanOfRing(from, numPoints, p.ring.boundary);
-    const std::size_t valence = vertFaces_[p.vertex(from)].size();
-    if (valence < best && tryTriangulation(v, p, worst)) {
-      best = valence;
-      chosen = p;
-    }
+    if (tryTriangulation(v, p, worst)) return true;
   }
-  if (chosen.triangles.empty()) return false;
-  p = std::move(chosen);
-  return true;
+  return false;
 }
 
 // Whether the plan's triangulation is certified (removal.h), well shaped in the
@@ -311,14 +318,12 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
 // itself, the pairs there are carried along rather than refused.
 bool Simplifier::crossesMesh(const Plan& p) const {
   if (!grid_) return false;
+  if (nearOfPlan_ != plansMade_) gatherNear(p.ring);
   for (const auto& q : p.triangles) {
     const std::array<int, 3> t = {p.vertex(q[0]), p.vertex(q[1]), p.vertex(q[2])};
-    grid_->near(t, near_);
-    for (int g : near_) {
-      if (!faceAlive_[g] ||
-          std::find(p.ring.faces.begin(), p.ring.faces.end(), g) != p.ring.faces.end())
-        continue;
-      if (!trianglesMeet(V_, t, faces_[g])) continue;
+    const Box box = boxOf(t);
+    for (const auto& [g, gBox] : near_) {
+      if (!box.intersects(gBox) || !trianglesMeet(V_, t, faces_[g])) continue;
       const bool inherited = std::any_of(p.ring.faces.begin(), p.ring.faces.end(), [&](int f) {
         return trianglesMeet(V_, faces_[f], faces_[g]);
       });
@@ -326,6 +331,31 @@ bool Simplifier::crossesMesh(const Plan& p) const {
     }
   }
   return false;
+}
+
+// The live faces other than the ring's whose boxes meet the ring's, once for all the
+// triangulations plan() tries: every new face lies in the box of the ring's corners.
+void Simplifier::gatherNear(const Ring& r) const {
+  nearOfPlan_ = plansMade_;
+  Box ringBox;
+  for (int w : r.verts) ringBox.extend(V_.row(w).transpose());
+  grid_->near(ringBox.min(), ringBox.max(), nearIds_);
+  near_.clear();
+  for (int g : nearIds_) {
+    if (!faceAlive_[g] || std::find(r.faces.begin(), r.faces.end(), g) != r.faces.end()) continue;
+    const Box gBox = boxOf(faces_[g]);
+    if (gBox.intersects(ringBox)) near_.emplace_back(g, gBox);
+  }
+}
+
+// A face's bounding box, grown by a relative margin beyond trianglesMeet's tolerance
+// so that the box test never rejects a pair the exact test would count.
+Simplifier::Box Simplifier::boxOf(const std::array<int, 3>& t) const {
+  Box b;
+  for (int x : t) b.extend(V_.row(x).transpose());
+  const double margin =
+      1e-9 * (b.diagonal().norm() + b.max().cwiseAbs().maxCoeff() + b.min().cwiseAbs().maxCoeff());
+  return Box(b.min().array() - margin, b.max().array() + margin);
 }
 
 // The live faces in a grid of cells the size of their mean edge (a face meets a few

@@ -1,6 +1,6 @@
 // The face grid (face_grid.h): a query returns every face whose bounding box meets
-// the triangle's, as brute force finds them, each once, a face much larger than the
-// cells included; a bad cell size is refused.
+// the triangle's (or the box's), as brute force finds them, each once, a face much
+// larger than the cells included; a bad cell size is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,9 +40,19 @@ TEST(FaceGrid, FindsEveryFaceWhoseBoxMeetsTheQuerysAsBruteForceDoes) {
     std::vector<int> near;
     for (int q = 0; q < n; q += 7) {
       grid.near(faces[q], near);
+      // The query by box, as the box of a triangle, gives the same faces.
+      std::vector<int> byBox;
+      Eigen::Vector3d lo, hi;
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = box(faces[q], c, false);
+        hi[c] = box(faces[q], c, true);
+      }
+      grid.near(lo, hi, byBox);
+      std::sort(byBox.begin(), byBox.end());
       std::vector<int> sorted = near;
       std::sort(sorted.begin(), sorted.end());
       EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end());  // once each
+      EXPECT_EQ(byBox, sorted);
       for (int g = 0; g < n; ++g) {
         bool meet = true;
         for (int c = 0; c < 3; ++c)

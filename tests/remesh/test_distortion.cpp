@@ -1,8 +1,10 @@
 // The distortion measure of the simplification (distortion.h): closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "osdmra/remesh/distortion.h"
 
@@ -64,5 +66,56 @@ TEST(Distortion, HingeUnfoldsAFoldedSquare) {
     EXPECT_NEAR((second.pos[1] - second.pos[2]).norm(), (V.row(2) - V.row(3)).norm(), 1e-12);
     EXPECT_GT(cross2(second.pos[1] - second.pos[0], second.pos[2] - second.pos[0]), 0);
     EXPECT_FALSE(hinge(V, first, {0, 1, 3}, second));  // the same face: no edge between
+  }
+}
+
+// A chart over the unit square folded about its diagonal 1-3: corners inside one face,
+// inside the two faces about the fold, and a vertex corner, land where the unfolded
+// square puts them (laid from the first face), whatever the fold; a corner beyond the
+// two faces brings its own face through facesAround, hinged with its lengths kept.
+TEST(Distortion, ChartImageUnfoldsTheFacesHoldingTheCorners) {
+  for (const double fold : {0.0, 1.0, 2.5}) {
+    SCOPED_TRACE(fold);
+    osdmra::Points V(5, 3);
+    // Corner 2, (1, 1, 0) unfolded, turned by `fold` about the diagonal from 1 to 3.
+    const double h = 0.5 * (1 + std::cos(fold));
+    V << 0, 0, 0, 1, 0, 0, h, h, -std::sin(fold) / std::sqrt(2.0), 0, 1, 0, 2, 0, 0;
+    const std::array<int, 3> a{0, 1, 3}, b{1, 2, 3}, c{1, 4, 2};
+    const FacesAround around = [&](int w) {
+      std::vector<std::array<int, 3>> out;
+      for (const auto& f : {a, b, c})
+        if (std::count(f.begin(), f.end(), w) == 1) out.push_back(f);
+      return out;
+    };
+    // Unfolded, the square is [0,1]^2 laid from face a: 0 at the origin, 1 on +x, 3 on +y.
+    auto unfolded = [&](int v) -> Vec2 { return v == 2 ? Vec2(1, 1) : Vec2(V(v, 0), V(v, 1)); };
+    const std::array<double, 3> third{1 / 3.0, 1 / 3.0, 1 / 3.0};
+    auto centre = [&](const std::array<int, 3>& f) -> Vec2 {
+      return (unfolded(f[0]) + unfolded(f[1]) + unfolded(f[2])) / 3;
+    };
+    std::array<Vec2, 3> image;
+    // All in face a; then a's centre, b's centre and vertex 0.
+    ASSERT_TRUE(chartImage(V,
+                           {Placed{false, -1, a, {1, 0, 0}}, Placed{false, -1, a, {0, 1, 0}},
+                            Placed{false, -1, a, third}},
+                           around, image));
+    EXPECT_NEAR((image[0] - Vec2(0, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((image[1] - Vec2(1, 0)).norm(), 0, 1e-12);
+    EXPECT_NEAR((image[2] - centre(a)).norm(), 0, 1e-12);
+    ASSERT_TRUE(chartImage(
+        V, {Placed{false, -1, a, third}, Placed{false, -1, b, third}, Placed{true, 0, {}, {}}},
+        around, image));
+    EXPECT_NEAR((image[0] - centre(a)).norm(), 0, 1e-12);
+    EXPECT_NEAR((image[1] - centre(b)).norm(), 0, 1e-12);
+    EXPECT_NEAR(image[2].norm(), 0, 1e-12);
+    // Vertex 4 is in neither a nor b: its face c comes from facesAround, hinged to b.
+    // Laid from a, b's corner 2 is at (1, 1); c is b's neighbour about edge 1-2, and
+    // folds with b, so vertex 4 lands at distance 1 from 1 and sqrt(2) from 2.
+    ASSERT_TRUE(chartImage(
+        V, {Placed{false, -1, a, third}, Placed{false, -1, b, third}, Placed{true, 4, {}, {}}},
+        around, image));
+    EXPECT_NEAR((image[1] - centre(b)).norm(), 0, 1e-12);
+    EXPECT_NEAR((image[2] - Vec2(1, 0)).norm(), (V.row(4) - V.row(1)).norm(), 1e-12);
+    EXPECT_NEAR((image[2] - Vec2(1, 1)).norm(), (V.row(4) - V.row(2)).norm(), 1e-12);
   }
 }
