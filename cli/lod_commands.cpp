@@ -103,9 +103,6 @@ int cmdLod(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   InputOptions input = inputOptions(args);
-  // A level of detail near the base is the base: with --remesh, keep it from crossing
-  // itself where the input does not (RemeshOptions::baseWithoutNewCrossings).
-  input.remeshing.baseWithoutNewCrossings = true;
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
   // remeshes over a half, a quarter and a sixteenth of the budget and keeps the
   // closest level of detail, unless --base-faces fixes the base (and --levels the levels).

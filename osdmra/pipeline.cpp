@@ -358,9 +358,6 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
               const Progress& progress) {
   const auto t0 = Clock::now();
   options.remeshing.baseFaces = baseFaces;
-  // A level of detail near the base is the base: it must not cross itself where the
-  // input does not.
-  options.remeshing.baseWithoutNewCrossings = true;
   if (search.levelsForEachBase && options.remeshing.maxFaces == 0)
     options.remeshing.maxFaces = kLodRemeshingFaces;
   Trial t;

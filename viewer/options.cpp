@@ -86,9 +86,6 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   in.remeshing.levels = static_cast<int>(args.integer("levels", in.remeshing.levels, 0, 8));
   in.remeshing.featureAngle = args.real("feature-angle", in.remeshing.featureAngle, 0, 180);
   in.remeshing.maxFaces = args.integer("max-faces", in.remeshing.maxFaces, 0, 1LL << 40);
-  // The slider reaches levels of detail near the base: keep it from crossing itself, as
-  // lod --remesh does.
-  in.remeshing.baseWithoutNewCrossings = true;
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));
 }

@@ -68,6 +68,7 @@ void FaceGrid::insert(int id, const std::array<int, 3>& t) {
         if (slotKey_[i] == kEmpty) {
           slotKey_[i] = k;
           slotHead_[i] = -1;
+          slotFrozen_[i] = {0, 0};
           ++cells_;
         }
         entries_.push_back({id, slotHead_[i]});
@@ -86,14 +87,34 @@ std::size_t FaceGrid::slot(std::uint64_t key) const {
 void FaceGrid::grow() {
   std::vector<std::uint64_t> keys(std::max<std::size_t>(64, 2 * slotKey_.size()), kEmpty);
   std::vector<int> heads(keys.size(), -1);
+  std::vector<std::array<int, 2>> ranges(keys.size(), {0, 0});
   keys.swap(slotKey_);
   heads.swap(slotHead_);
+  ranges.swap(slotFrozen_);
   for (std::size_t j = 0; j < keys.size(); ++j)
     if (keys[j] != kEmpty) {
       const std::size_t i = slot(keys[j]);
       slotKey_[i] = keys[j];
       slotHead_[i] = heads[j];
+      slotFrozen_[i] = ranges[j];
     }
+}
+
+void FaceGrid::freeze() {
+  std::vector<int> laid;
+  laid.reserve(frozen_.size() + entries_.size());
+  for (std::size_t i = 0; i < slotKey_.size(); ++i) {
+    if (slotKey_[i] == kEmpty) continue;
+    const int first = static_cast<int>(laid.size());
+    const auto [from, count] = slotFrozen_[i];
+    laid.insert(laid.end(), frozen_.begin() + from, frozen_.begin() + from + count);
+    for (int e = slotHead_[i]; e >= 0; e = entries_[static_cast<std::size_t>(e)][1])
+      laid.push_back(entries_[static_cast<std::size_t>(e)][0]);
+    slotFrozen_[i] = {first, static_cast<int>(laid.size()) - first};
+    slotHead_[i] = -1;
+  }
+  frozen_.swap(laid);
+  entries_.clear();
 }
 
 void FaceGrid::near(const std::array<int, 3>& t, std::vector<int>& out) const {
@@ -123,6 +144,8 @@ void FaceGrid::near(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
         if (slotKey_.empty()) return;
         const std::size_t i = slot(key(x, y, z));
         if (slotKey_[i] == kEmpty) continue;
+        const auto [from, count] = slotFrozen_[i];
+        for (int j = from; j < from + count; ++j) add(frozen_[static_cast<std::size_t>(j)]);
         for (int e = slotHead_[i]; e >= 0; e = entries_[static_cast<std::size_t>(e)][1])
           add(entries_[static_cast<std::size_t>(e)][0]);
       }

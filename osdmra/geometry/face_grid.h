@@ -22,6 +22,11 @@ class FaceGrid {
   /// whose faces die skips them as it visits.
   void insert(int id, const std::array<int, 3>& t);
 
+  /// Lays the faces inserted so far out cell by cell, contiguous in memory: later
+  /// queries read each cell's faces at once rather than following a list through the
+  /// inserts. For a grid filled first and then queried often, with few inserts since.
+  void freeze();
+
   /// The ids of the faces whose cells meet those of triangle t's bounding box, each
   /// once, appended to `out` (cleared first).
   void near(const std::array<int, 3>& t, std::vector<int>& out) const;
@@ -46,12 +51,15 @@ class FaceGrid {
 
   const Points& V_;
   double cell_;
-  // Cells in an open-addressed table (linear probing, at most half full), each the head
-  // of a list of entries {face, next entry}: one allocation per doubling, not per cell,
-  // as the grid is rebuilt often.
+  // Cells in an open-addressed table (linear probing, at most half full), each with a
+  // range {first, count} of frozen_ (the faces before the last freeze()) and the head of
+  // a list of entries {face, next entry} (those since): one allocation per doubling,
+  // not per cell, as the grid is rebuilt often.
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};  // key() never makes it
   std::vector<std::uint64_t> slotKey_;
   std::vector<int> slotHead_;
+  std::vector<std::array<int, 2>> slotFrozen_;
+  std::vector<int> frozen_;
   std::size_t cells_ = 0;
   std::vector<std::array<int, 2>> entries_;
   std::vector<int> huge_, all_;    // faces kept apart; every face (for huge queries)

@@ -55,12 +55,13 @@ struct RemeshOptions {
   /// Refuse every removal of the simplification whose new faces would cross a face of
   /// the shrinking mesh that the faces they replace did not cross, so that the base
   /// crosses itself no more than the input does (an input that crosses itself keeps
-  /// its pairs, carried along).
-  /// The output's J-fold split is checked either way; this is for what uses the base
-  /// and the coarse levels themselves: a level of detail near the base (lodForBudget
-  /// turns it on). Off by default: it costs a test of each removal's new faces and can
-  /// leave a base larger than asked over thin parts.
-  bool baseWithoutNewCrossings = false;
+  /// its pairs, carried along). The output's J-fold split is checked as well; a base
+  /// that crosses itself over a thin part leaves knots there that the clean-up may not
+  /// untangle (the lion over 150 faces of docs/REMESH.md: 4-5 crossing pairs without
+  /// it, none with it), and a level of detail near the base inherits them. On by
+  /// default since 2026-11-27; it costs about 15% of the simplification (armadillo)
+  /// and can leave a base larger than asked over thin parts.
+  bool baseWithoutNewCrossings = true;
 };
 
 struct Remeshing {

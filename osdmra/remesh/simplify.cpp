@@ -342,7 +342,8 @@ void Simplifier::gatherNear(const Ring& r) const {
   grid_->near(ringBox.min(), ringBox.max(), nearIds_);
   near_.clear();
   for (int g : nearIds_) {
-    if (!faceAlive_[g] || std::find(r.faces.begin(), r.faces.end(), g) != r.faces.end()) continue;
+    if (!faceAlive_[g] || std::find(r.faces.begin(), r.faces.end(), g) != r.faces.end())
+      continue;
     const Box gBox = boxOf(faces_[g]);
     if (gBox.intersects(ringBox)) near_.emplace_back(g, gBox);
   }
@@ -370,6 +371,7 @@ void Simplifier::indexFaces() {
   grid_ = std::make_unique<FaceGrid>(V_, edges > 0 && length > 0 ? length / edges : 1.0);
   for (std::size_t f = 0; f < faces_.size(); ++f)
     if (faceAlive_[f]) grid_->insert(static_cast<int>(f), faces_[f]);
+  grid_->freeze();
 }
 
 // Every parameterised point of the old faces, and v itself (the origin), at its place
