@@ -27,10 +27,11 @@ namespace {
 
 constexpr int kBaseFaces = 300, kLevels = 5;
 
-void bmRemesh(benchmark::State& state, const TriMesh& m) {
+void bmRemesh(benchmark::State& state, const TriMesh& m, bool baseCheck) {
   RemeshOptions o;
   o.baseFaces = kBaseFaces;
   o.levels = kLevels;
+  o.baseWithoutNewCrossings = baseCheck;
   Remeshing r;
   for (auto _ : state) {
     r = remesh(m, o);
@@ -61,7 +62,14 @@ int main(int argc, char** argv) {
   for (const auto& [name, mesh] : meshes) {
     const TriMesh* m = &mesh;
     benchmark::RegisterBenchmark(("Remesh/" + name).c_str(),
-                                 [m](benchmark::State& s) { bmRemesh(s, *m); })
+                                 [m](benchmark::State& s) { bmRemesh(s, *m, true); })
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime()
+        ->UseRealTime()
+        ->Iterations(1);
+    // The default's cost over the base check (RemeshOptions::baseWithoutNewCrossings).
+    benchmark::RegisterBenchmark(("RemeshWithoutBaseCheck/" + name).c_str(),
+                                 [m](benchmark::State& s) { bmRemesh(s, *m, false); })
         ->Unit(benchmark::kMillisecond)
         ->MeasureProcessCPUTime()
         ->UseRealTime()

@@ -54,13 +54,15 @@ struct RemeshOptions {
   int smoothingSweeps = 0;
   /// Refuse every removal of the simplification whose new faces would cross a face of
   /// the shrinking mesh that the faces they replace did not cross, so that the base
-  /// crosses itself no more than the input does (an input that crosses itself keeps
-  /// its pairs, carried along). The output's J-fold split is checked as well; a base
-  /// that crosses itself over a thin part leaves knots there that the clean-up may not
-  /// untangle (the lion over 150 faces of docs/REMESH.md: 4-5 crossing pairs without
-  /// it, none with it), and a level of detail near the base inherits them. On by
-  /// default since 2026-11-27; it costs about 15% of the simplification (armadillo)
-  /// and can leave a base larger than asked over thin parts.
+  /// crosses itself no more than the input does: where the input crosses itself, a
+  /// removal whose faces hold a point of an input face that crosses another may cross
+  /// faces that hold one (refusing those left the bases of the cow and the ogre a third
+  /// larger than asked, over knots that are the input's either way). The output's J-fold split is
+  /// checked as well; a base that crosses itself over a thin part leaves knots there that the
+  /// clean-up may not untangle (the lion over 150 faces of docs/REMESH.md: 4-5 crossing pairs
+  /// without it, none with it), and a level of detail near the base inherits them. On by default
+  /// since 2026-11-27; it costs about 15% of the simplification (armadillo) and can leave a base
+  /// larger than asked over thin parts.
   bool baseWithoutNewCrossings = true;
 };
 

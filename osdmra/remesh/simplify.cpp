@@ -52,6 +52,7 @@ class Simplifier {
         fold_(features.fold),
         stages_(stages) {
     const int n = static_cast<int>(m.V.rows());
+    if (noNewCrossings_) markInputCrossings(m);
     faces_.reserve(2 * m.F.rows());
     vertFaces_.resize(n);
     inputFaces_.resize(n);
@@ -111,6 +112,7 @@ class Simplifier {
   void gatherNear(const Ring& r) const;
   Box boxOf(const std::array<int, 3>& t) const;
   void indexFaces();
+  void markInputCrossings(const TriMesh& m);
   void commit(int v, const Plan& p);
   std::string whyKept();
   const StageLimits& limits() const { return stages_[stage_]; }
@@ -122,6 +124,10 @@ class Simplifier {
   mutable std::vector<std::pair<int, Box>> near_;
   mutable std::vector<int> nearIds_;
   mutable int nearOfPlan_ = -1;
+  mutable bool nearRingAtCrossing_ = false;
+  // noNewCrossings_: per input vertex, whether it is a corner of an input face that
+  // crosses another; per face, whether it holds such a vertex (a corner or a point).
+  std::vector<char> atInputCrossing_, faceAtCrossing_;
   int plansMade_ = 0;
   Faces inputF_;
   std::vector<std::array<int, 3>> faces_;
@@ -145,6 +151,10 @@ int Simplifier::addFace(const std::array<int, 3>& t) {
   const int f = static_cast<int>(faces_.size());
   faces_.push_back(t);
   faceAlive_.push_back(1);
+  if (noNewCrossings_)
+    faceAtCrossing_.push_back(std::any_of(t.begin(), t.end(), [&](int v) {
+      return atInputCrossing_[static_cast<std::size_t>(v)] != 0;
+    }));
   facePoints_.emplace_back();
   removalOf_.push_back(-1);
   triangleOf_.push_back(-1);
@@ -324,9 +334,10 @@ bool Simplifier::crossesMesh(const Plan& p) const {
     const Box box = boxOf(t);
     for (const auto& [g, gBox] : near_) {
       if (!box.intersects(gBox) || !trianglesMeet(V_, t, faces_[g])) continue;
-      const bool inherited = std::any_of(p.ring.faces.begin(), p.ring.faces.end(), [&](int f) {
-        return trianglesMeet(V_, faces_[f], faces_[g]);
-      });
+      const bool inherited = (nearRingAtCrossing_ && faceAtCrossing_[g]) ||
+                             std::any_of(p.ring.faces.begin(), p.ring.faces.end(), [&](int f) {
+                               return trianglesMeet(V_, faces_[f], faces_[g]);
+                             });
       if (!inherited) return true;
     }
   }
@@ -337,13 +348,14 @@ bool Simplifier::crossesMesh(const Plan& p) const {
 // triangulations plan() tries: every new face lies in the box of the ring's corners.
 void Simplifier::gatherNear(const Ring& r) const {
   nearOfPlan_ = plansMade_;
+  nearRingAtCrossing_ =
+      std::any_of(r.faces.begin(), r.faces.end(), [&](int f) { return faceAtCrossing_[f] != 0; });
   Box ringBox;
   for (int w : r.verts) ringBox.extend(V_.row(w).transpose());
   grid_->near(ringBox.min(), ringBox.max(), nearIds_);
   near_.clear();
   for (int g : nearIds_) {
-    if (!faceAlive_[g] || std::find(r.faces.begin(), r.faces.end(), g) != r.faces.end())
-      continue;
+    if (!faceAlive_[g] || std::find(r.faces.begin(), r.faces.end(), g) != r.faces.end()) continue;
     const Box gBox = boxOf(faces_[g]);
     if (gBox.intersects(ringBox)) near_.emplace_back(g, gBox);
   }
@@ -357,6 +369,17 @@ Simplifier::Box Simplifier::boxOf(const std::array<int, 3>& t) const {
   const double margin =
       1e-9 * (b.diagonal().norm() + b.max().cwiseAbs().maxCoeff() + b.min().cwiseAbs().maxCoeff());
   return Box(b.min().array() - margin, b.max().array() + margin);
+}
+
+// Where the input crosses itself, the base may too: a removal whose faces hold a point
+// of an input face that crosses another may cross faces that hold one (the cow, the
+// ogre: refused, such removals left their bases a third larger than without the check,
+// and the knots where two sheets cross are the input's either way).
+void Simplifier::markInputCrossings(const TriMesh& m) {
+  atInputCrossing_.assign(static_cast<std::size_t>(m.V.rows()), 0);
+  for (const auto& pair : findSelfIntersections(m, std::numeric_limits<int>::max()).pairs)
+    for (int f : pair)
+      for (int k = 0; k < 3; ++k) atInputCrossing_[static_cast<std::size_t>(m.F(f, k))] = 1;
 }
 
 // The live faces in a grid of cells the size of their mean edge (a face meets a few
@@ -474,6 +497,7 @@ void Simplifier::commit(int v, const Plan& p) {
   for (const Plan::Moved& mv : p.moved) {
     param_[mv.point] = {newFaces[mv.triangle], mv.bary};
     facePoints_[newFaces[mv.triangle]].push_back(mv.point);
+    if (noNewCrossings_ && atInputCrossing_[mv.point]) faceAtCrossing_[newFaces[mv.triangle]] = 1;
   }
   for (int f : p.ring.faces) std::vector<int>().swap(facePoints_[f]);
   removed_[v] = 1;
