@@ -99,38 +99,53 @@ bool sameFace(const std::array<int, 3>& f, const std::array<int, 3>& g) {
   return f[0] == g[0] && f[1] == g[1] && f[2] == g[2];
 }
 
-// The chart when the corners lie in one face, or in two that share an edge (points in
-// them, or their own corners): those faces laid flat, the second hinged to the first, as
-// the general case below would lay them, without its lists. Once the faces hold many
-// points this is most triangles. False when the corners need more faces.
-bool imageInFewFaces(const Points& V, const std::array<Placed, 3>& at, std::array<Vec2, 3>& image) {
-  std::array<Laid, 2> laid;
+// The chart of the general case below when the faces its corners bring (their own,
+// and one around each vertex corner that none of those has) lay in one pass, as it
+// would lay them, in fixed arrays instead of its lists: most triangles, once the faces
+// hold many points. False when they do not lay so (the general case then brings more).
+bool imageInCornerFaces(const Points& V, const std::array<Placed, 3>& at,
+                        const FacesAround& facesAround, std::array<Vec2, 3>& image) {
+  std::array<std::array<int, 3>, 6> faces;
   int n = 0;
-  for (const Placed& c : at)
-    if (!c.isVertex && (n == 0 || !sameFace(c.face, laid[0].face)) &&
-        (n < 2 || !sameFace(c.face, laid[1].face))) {
-      if (n == 2) return false;
-      laid[n++].face = c.face;
-    }
-  if (n == 0) return false;
-  auto cornerOf = [](const Laid& l, int v) {
-    return static_cast<int>(std::find(l.face.begin(), l.face.end(), v) - l.face.begin());
+  auto add = [&](const std::array<int, 3>& f) {
+    if (std::none_of(faces.begin(), faces.begin() + n,
+                     [&](const auto& g) { return sameFace(f, g); }))
+      faces[n++] = f;
+  };
+  auto inFace = [](int v, const std::array<int, 3>& f) {
+    return std::count(f.begin(), f.end(), v) == 1;
   };
   for (const Placed& c : at)
-    if (c.isVertex && cornerOf(laid[0], c.vertex) == 3 &&
-        (n == 1 || cornerOf(laid[1], c.vertex) == 3))
-      return false;
-  const std::array<int, 3>& f = laid[0].face;
-  laid[0].pos = layFlat(V.row(f[0]).transpose(), V.row(f[1]).transpose(), V.row(f[2]).transpose());
-  if (n == 2 && !hinge(V, laid[0], std::array<int, 3>(laid[1].face), laid[1])) return false;
+    if (!c.isVertex) add(c.face);
+  for (const Placed& c : at)
+    if (c.isVertex && std::none_of(faces.begin(), faces.begin() + n,
+                                   [&](const auto& f) { return inFace(c.vertex, f); }))
+      add(facesAround(c.vertex).front());
+  // Breadth first from the first face, as layBreadthFirst.
+  std::array<Laid, 6> laid;
+  std::array<char, 6> done{};
+  const std::array<int, 3>& first = faces[0];
+  laid[0] = {first, layFlat(V.row(first[0]).transpose(), V.row(first[1]).transpose(),
+                            V.row(first[2]).transpose())};
+  done[0] = 1;
+  int count = 1;
+  for (int head = 0; head < count && count < n; ++head)
+    for (int q = 1; q < n; ++q) {
+      if (done[q] || !hinge(V, laid[head], faces[q], laid[count])) continue;
+      done[q] = 1;
+      ++count;
+    }
+  if (count < n) return false;
   for (int k = 0; k < 3; ++k) {
     const Placed& c = at[k];
-    if (c.isVertex) {
-      const int i = cornerOf(laid[0], c.vertex);
-      image[k] = i < 3 ? laid[0].pos[i] : laid[1].pos[cornerOf(laid[1], c.vertex)];
-    } else {
-      image[k] = pointIn(sameFace(c.face, laid[0].face) ? laid[0] : laid[1], c.bary);
-    }
+    const auto holds = [&](const Laid& l) {
+      return c.isVertex ? inFace(c.vertex, l.face) : sameFace(l.face, c.face);
+    };
+    const Laid* l = std::find_if(laid.begin(), laid.begin() + count, holds);
+    if (l == laid.begin() + count) return false;
+    image[k] = c.isVertex
+                   ? l->pos[std::find(l->face.begin(), l->face.end(), c.vertex) - l->face.begin()]
+                   : pointIn(*l, c.bary);
   }
   return true;
 }
@@ -139,7 +154,7 @@ bool imageInFewFaces(const Points& V, const std::array<Placed, 3>& at, std::arra
 
 bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
                 std::array<Vec2, 3>& image) {
-  if (imageInFewFaces(V, at, image)) return true;
+  if (imageInCornerFaces(V, at, facesAround, image)) return true;
   auto inFace = [](int v, const std::array<int, 3>& f) {
     return std::count(f.begin(), f.end(), v) == 1;
   };
