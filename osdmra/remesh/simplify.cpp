@@ -321,11 +321,11 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
 
 // With noNewCrossings_: whether a new face of the plan would meet a live face g of the
 // mesh (other than the ring's, which it replaces) where it should not
-// (trianglesMeet), and no face of the ring met g already. Refusing such removals
-// keeps the crossing pairs of the mesh those it had at the start, by construction: a
-// coarse base over a thin part otherwise can cross itself (the lion's over 105 faces:
-// 3 pairs), and a level of detail near the base inherits it; where the input crosses
-// itself, the pairs there are carried along rather than refused.
+// (trianglesMeet), no face of the ring met g already, and the ring and g do not both
+// hold a point where the input crosses itself (markInputCrossings). Refusing such
+// removals keeps the mesh from crossing itself where the input does not, by
+// construction: a coarse base over a thin part otherwise can (the lion's over 105
+// faces: 3 pairs), and the J-fold split and a level of detail near the base inherit it.
 bool Simplifier::crossesMesh(const Plan& p) const {
   if (!grid_) return false;
   if (nearOfPlan_ != plansMade_) gatherNear(p.ring);
