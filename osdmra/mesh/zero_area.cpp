@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 #include "osdmra/base/error.h"
@@ -17,10 +19,6 @@ using Vec3 = Eigen::Vector3d;
 // A zero-area face whose shortest edge is under this fraction of its longest is a
 // needle (two corners at one place), else a cap (one corner on the opposite edge).
 constexpr double kNeedle = 1e-6;
-
-// Rounds are few in practice (a polygon's collinear points go one per round along a
-// fan); the bound only guards against flips undoing each other.
-constexpr int kMaxRounds = 64;
 
 Vec3 point(const TriMesh& m, int v) {
   return m.V.row(v).transpose();
@@ -39,8 +37,13 @@ bool zeroArea(const TriMesh& m, int a, int b, int c) {
   return normalOf(m, a, b, c).norm() <= kZeroAreaHeight * longest;
 }
 
-// One round of mending: faces whose vertices an earlier change of the round touched
-// wait for the next round, so that every check reads the mesh the round started from.
+// One round of mending, every check reading the mesh the round started from: a flip
+// waits for the next round where an earlier change of the round changed one of its two
+// faces or added the edge it would add, or a collapse or drop touched one of its
+// corners; a collapse or a drop waits where any change touched a vertex it reads. (A
+// flip changes two faces and one edge, so the flips of several caps around one vertex,
+// a polygon fanned from a corner with points along both sides next to it, go in one
+// round.)
 class Round {
  public:
   Round(TriMesh& m, ZeroAreaRepair& out)
@@ -48,7 +51,9 @@ class Round {
         out_(out),
         conn_(m.F, static_cast<int>(m.V.rows())),
         dirty_(m.V.rows(), 0),
+        hard_(m.V.rows(), 0),
         dropped_(m.F.rows(), 0),
+        changed_(m.F.rows(), 0),
         mergedInto_(m.V.rows(), -1) {}
 
   // Mends what it can; returns how many faces it mended.
@@ -56,7 +61,7 @@ class Round {
     int changed = 0;
     for (int f = 0; f < m_.F.rows(); ++f) {
       const int a = m_.F(f, 0), b = m_.F(f, 1), c = m_.F(f, 2);
-      if (dirty_[a] || dirty_[b] || dirty_[c] || !zeroArea(m_, a, b, c)) continue;
+      if (changed_[f] || !zeroArea(m_, a, b, c)) continue;
       changed += mend(f);
     }
     apply();
@@ -75,8 +80,9 @@ class Round {
     // A face alone (a fin cut off a non-manifold edge, say) is dropped: it is no
     // surface.
     if (conn_.twin(3 * f) < 0 && conn_.twin(3 * f + 1) < 0 && conn_.twin(3 * f + 2) < 0) {
+      if (dirty_[m_.F(f, 0)] || dirty_[m_.F(f, 1)] || dirty_[m_.F(f, 2)]) return false;
       dropped_[f] = 1;
-      touch({m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)});
+      touchHard({m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)});
       ++out_.dropped;
       return true;
     }
@@ -91,18 +97,22 @@ class Round {
     const int t = conn_.twin(h);
     if (t < 0) {
       // On the boundary: dropped, when m is interior (else m would pinch).
-      if (conn_.isBoundaryVertex(m) || dirty_[m]) return false;
+      if (conn_.isBoundaryVertex(m) || dirty_[a] || dirty_[b] || dirty_[m]) return false;
       dropped_[f] = 1;
-      touch({a, b, m});
+      touchHard({a, b, m});
       ++out_.dropped;
       return true;
     }
     const int g = t / 3, d = conn_.to(Connectivity::next(t));
-    if (dirty_[d] || d == m || conn_.findEdge(m, d) >= 0) return false;
+    if (changed_[g] || hard_[a] || hard_[b] || hard_[m] || hard_[d] || d == m ||
+        conn_.findEdge(m, d) >= 0 || added_.count(edgeKey(m, d)) != 0)
+      return false;
     // g = (b, a, d) split at m into (a, d, m) and (d, b, m): the same surface.
     if (zeroArea(m_, a, d, m) + zeroArea(m_, d, b, m) >= 1 + zeroArea(m_, b, a, d)) return false;
     m_.F.row(f) << a, d, m;
     m_.F.row(g) << d, b, m;
+    changed_[f] = changed_[g] = 1;
+    added_.insert(edgeKey(m, d));
     touch({a, b, m, d});
     ++out_.flipped;
     return true;
@@ -136,9 +146,9 @@ class Round {
     for (int g : facesAround(u))
       if (std::count(m_.F.row(g).data(), m_.F.row(g).data() + 3, w) > 0) dropped_[g] = 1;
     mergedInto_[u] = w;
-    dirty_[u] = dirty_[w] = 1;
-    for (int x : ru) dirty_[x] = 1;
-    for (int x : rw) dirty_[x] = 1;
+    touchHard({u, w});
+    for (int x : ru) dirty_[x] = hard_[x] = 1;
+    for (int x : rw) dirty_[x] = hard_[x] = 1;
     ++out_.collapsed;
     return true;
   }
@@ -163,8 +173,17 @@ class Round {
     return false;
   }
 
+  // A flip's corners: collapses and drops around them wait.
   void touch(std::initializer_list<int> vertices) {
     for (int v : vertices) dirty_[v] = 1;
+  }
+  // A collapse's or a drop's: every change around them waits.
+  void touchHard(std::initializer_list<int> vertices) {
+    for (int v : vertices) dirty_[v] = hard_[v] = 1;
+  }
+  static std::uint64_t edgeKey(int x, int y) {
+    return static_cast<std::uint64_t>(std::min(x, y)) << 32 |
+           static_cast<std::uint32_t>(std::max(x, y));
   }
 
   // The round's collapses and drops written into the mesh.
@@ -185,7 +204,8 @@ class Round {
   TriMesh& m_;
   ZeroAreaRepair& out_;
   const Connectivity conn_;
-  std::vector<char> dirty_, dropped_;
+  std::vector<char> dirty_, hard_, dropped_, changed_;
+  std::unordered_set<std::uint64_t> added_;  // edges the round's flips made
   std::vector<int> mergedInto_;
 };
 
@@ -202,13 +222,17 @@ ZeroAreaRepair removeZeroAreaFaces(TriMesh& mesh) {
     for (int f = 0; f < mesh.F.rows(); ++f) n += isZeroAreaFace(mesh, f);
     return n;
   };
-  if (count() == 0) return out;
+  const int zeroAreaFaces = count();
+  if (zeroAreaFaces == 0) return out;
   try {
     validate(mesh, "");
   } catch (const Error&) {
     return out;  // validate() will say what is wrong
   }
-  for (int round = 0; round < kMaxRounds; ++round)
+  // Every change leaves fewer zero-area faces (a flip is made only so; a drop or a
+  // collapse removes one), so there are at most as many rounds as there are such faces:
+  // a fan's caps along a line go one per round.
+  for (int round = 0; round <= zeroAreaFaces; ++round)
     if (Round(mesh, out).run() == 0) break;
   removeUnreferencedVertices(mesh);
   out.left = count();
