@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <unordered_set>
+#include <unordered_map>
 #include <vector>
 
 #include "osdmra/base/error.h"
@@ -19,6 +19,10 @@ using Vec3 = Eigen::Vector3d;
 // A zero-area face whose shortest edge is under this fraction of its longest is a
 // needle (two corners at one place), else a cap (one corner on the opposite edge).
 constexpr double kNeedle = 1e-6;
+
+// Rounds are few once flipCaps() has run (its flips are what a fan's chain of caps
+// needs); the bound only guards against changes undoing each other.
+constexpr int kMaxRounds = 64;
 
 Vec3 point(const TriMesh& m, int v) {
   return m.V.row(v).transpose();
@@ -37,13 +41,8 @@ bool zeroArea(const TriMesh& m, int a, int b, int c) {
   return normalOf(m, a, b, c).norm() <= kZeroAreaHeight * longest;
 }
 
-// One round of mending, every check reading the mesh the round started from: a flip
-// waits for the next round where an earlier change of the round changed one of its two
-// faces or added the edge it would add, or a collapse or drop touched one of its
-// corners; a collapse or a drop waits where any change touched a vertex it reads. (A
-// flip changes two faces and one edge, so the flips of several caps around one vertex,
-// a polygon fanned from a corner with points along both sides next to it, go in one
-// round.)
+// One round of mending: faces whose vertices an earlier change of the round touched
+// wait for the next round, so that every check reads the mesh the round started from.
 class Round {
  public:
   Round(TriMesh& m, ZeroAreaRepair& out)
@@ -51,9 +50,7 @@ class Round {
         out_(out),
         conn_(m.F, static_cast<int>(m.V.rows())),
         dirty_(m.V.rows(), 0),
-        hard_(m.V.rows(), 0),
         dropped_(m.F.rows(), 0),
-        changed_(m.F.rows(), 0),
         mergedInto_(m.V.rows(), -1) {}
 
   // Mends what it can; returns how many faces it mended.
@@ -61,7 +58,7 @@ class Round {
     int changed = 0;
     for (int f = 0; f < m_.F.rows(); ++f) {
       const int a = m_.F(f, 0), b = m_.F(f, 1), c = m_.F(f, 2);
-      if (changed_[f] || !zeroArea(m_, a, b, c)) continue;
+      if (dirty_[a] || dirty_[b] || dirty_[c] || !zeroArea(m_, a, b, c)) continue;
       changed += mend(f);
     }
     apply();
@@ -80,9 +77,8 @@ class Round {
     // A face alone (a fin cut off a non-manifold edge, say) is dropped: it is no
     // surface.
     if (conn_.twin(3 * f) < 0 && conn_.twin(3 * f + 1) < 0 && conn_.twin(3 * f + 2) < 0) {
-      if (dirty_[m_.F(f, 0)] || dirty_[m_.F(f, 1)] || dirty_[m_.F(f, 2)]) return false;
       dropped_[f] = 1;
-      touchHard({m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)});
+      touch({m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)});
       ++out_.dropped;
       return true;
     }
@@ -97,22 +93,18 @@ class Round {
     const int t = conn_.twin(h);
     if (t < 0) {
       // On the boundary: dropped, when m is interior (else m would pinch).
-      if (conn_.isBoundaryVertex(m) || dirty_[a] || dirty_[b] || dirty_[m]) return false;
+      if (conn_.isBoundaryVertex(m) || dirty_[m]) return false;
       dropped_[f] = 1;
-      touchHard({a, b, m});
+      touch({a, b, m});
       ++out_.dropped;
       return true;
     }
     const int g = t / 3, d = conn_.to(Connectivity::next(t));
-    if (changed_[g] || hard_[a] || hard_[b] || hard_[m] || hard_[d] || d == m ||
-        conn_.findEdge(m, d) >= 0 || added_.count(edgeKey(m, d)) != 0)
-      return false;
+    if (dirty_[d] || d == m || conn_.findEdge(m, d) >= 0) return false;
     // g = (b, a, d) split at m into (a, d, m) and (d, b, m): the same surface.
     if (zeroArea(m_, a, d, m) + zeroArea(m_, d, b, m) >= 1 + zeroArea(m_, b, a, d)) return false;
     m_.F.row(f) << a, d, m;
     m_.F.row(g) << d, b, m;
-    changed_[f] = changed_[g] = 1;
-    added_.insert(edgeKey(m, d));
     touch({a, b, m, d});
     ++out_.flipped;
     return true;
@@ -146,9 +138,9 @@ class Round {
     for (int g : facesAround(u))
       if (std::count(m_.F.row(g).data(), m_.F.row(g).data() + 3, w) > 0) dropped_[g] = 1;
     mergedInto_[u] = w;
-    touchHard({u, w});
-    for (int x : ru) dirty_[x] = hard_[x] = 1;
-    for (int x : rw) dirty_[x] = hard_[x] = 1;
+    dirty_[u] = dirty_[w] = 1;
+    for (int x : ru) dirty_[x] = 1;
+    for (int x : rw) dirty_[x] = 1;
     ++out_.collapsed;
     return true;
   }
@@ -173,17 +165,8 @@ class Round {
     return false;
   }
 
-  // A flip's corners: collapses and drops around them wait.
   void touch(std::initializer_list<int> vertices) {
     for (int v : vertices) dirty_[v] = 1;
-  }
-  // A collapse's or a drop's: every change around them waits.
-  void touchHard(std::initializer_list<int> vertices) {
-    for (int v : vertices) dirty_[v] = hard_[v] = 1;
-  }
-  static std::uint64_t edgeKey(int x, int y) {
-    return static_cast<std::uint64_t>(std::min(x, y)) << 32 |
-           static_cast<std::uint32_t>(std::max(x, y));
   }
 
   // The round's collapses and drops written into the mesh.
@@ -204,10 +187,85 @@ class Round {
   TriMesh& m_;
   ZeroAreaRepair& out_;
   const Connectivity conn_;
-  std::vector<char> dirty_, hard_, dropped_, changed_;
-  std::unordered_set<std::uint64_t> added_;  // edges the round's flips made
+  std::vector<char> dirty_, dropped_;
   std::vector<int> mergedInto_;
 };
+
+std::uint64_t halfedgeKey(int from, int to) {
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(from)) << 32 |
+         static_cast<std::uint32_t>(to);
+}
+
+// Flips every cap whose flip leaves fewer zero-area faces, one after another through
+// a worklist, the face of each halfedge kept in a map updated at every flip: a fan's
+// chain of caps along a line (each flip makes the next cap's neighbour a triangle) goes
+// in one pass, where rounds that read the mesh they started from take one cap a round.
+// Each flip leaves fewer zero-area faces, so there are at most as many flips as such
+// faces. Needles and caps on the boundary are left to the rounds. Returns the flips.
+int flipCaps(TriMesh& m) {
+  std::unordered_map<std::uint64_t, int> faceOf;
+  auto link = [&](int f, bool add) {
+    for (int i = 0; i < 3; ++i) {
+      const std::uint64_t k = halfedgeKey(m.F(f, i), m.F(f, (i + 1) % 3));
+      if (add)
+        faceOf[k] = f;
+      else
+        faceOf.erase(k);
+    }
+  };
+  std::vector<int> work;
+  std::vector<char> queued(static_cast<std::size_t>(m.F.rows()), 0);
+  auto push = [&](int f) {
+    if (queued[f] || !zeroArea(m, m.F(f, 0), m.F(f, 1), m.F(f, 2))) return;
+    queued[f] = 1;
+    work.push_back(f);
+  };
+  for (int f = 0; f < m.F.rows(); ++f) link(f, true);
+  for (int f = static_cast<int>(m.F.rows()) - 1; f >= 0; --f) push(f);
+  int flips = 0;
+  while (!work.empty()) {
+    const int f = work.back();
+    work.pop_back();
+    queued[f] = 0;
+    const std::array<int, 3> c = {m.F(f, 0), m.F(f, 1), m.F(f, 2)};
+    if (!zeroArea(m, c[0], c[1], c[2])) continue;
+    double lengths[3];
+    int shortest = 0, longest = 0;
+    for (int i = 0; i < 3; ++i) {
+      lengths[i] = (point(m, c[(i + 1) % 3]) - point(m, c[i])).norm();
+      if (lengths[i] < lengths[shortest]) shortest = i;
+      if (lengths[i] > lengths[longest]) longest = i;
+    }
+    if (lengths[shortest] <= kNeedle * lengths[longest]) continue;  // a needle
+    const int a = c[longest], b = c[(longest + 1) % 3], mid = c[(longest + 2) % 3];
+    const auto across = faceOf.find(halfedgeKey(b, a));
+    if (across == faceOf.end()) continue;  // on the boundary
+    const int g = across->second;
+    int d = -1;
+    for (int i = 0; i < 3; ++i)
+      if (m.F(g, i) != a && m.F(g, i) != b) d = m.F(g, i);
+    if (d < 0 || d == mid || faceOf.count(halfedgeKey(mid, d)) != 0 ||
+        faceOf.count(halfedgeKey(d, mid)) != 0)
+      continue;
+    // g = (b, a, d) split at mid into (a, d, mid) and (d, b, mid): the same surface.
+    if (zeroArea(m, a, d, mid) + zeroArea(m, d, b, mid) >= 1 + zeroArea(m, b, a, d)) continue;
+    link(f, false);
+    link(g, false);
+    m.F.row(f) << a, d, mid;
+    m.F.row(g) << d, b, mid;
+    link(f, true);
+    link(g, true);
+    ++flips;
+    for (const int h : {f, g}) {
+      push(h);
+      for (int i = 0; i < 3; ++i) {
+        const auto next = faceOf.find(halfedgeKey(m.F(h, (i + 1) % 3), m.F(h, i)));
+        if (next != faceOf.end()) push(next->second);
+      }
+    }
+  }
+  return flips;
+}
 
 }  // namespace
 
@@ -222,17 +280,14 @@ ZeroAreaRepair removeZeroAreaFaces(TriMesh& mesh) {
     for (int f = 0; f < mesh.F.rows(); ++f) n += isZeroAreaFace(mesh, f);
     return n;
   };
-  const int zeroAreaFaces = count();
-  if (zeroAreaFaces == 0) return out;
+  if (count() == 0) return out;
   try {
     validate(mesh, "");
   } catch (const Error&) {
     return out;  // validate() will say what is wrong
   }
-  // Every change leaves fewer zero-area faces (a flip is made only so; a drop or a
-  // collapse removes one), so there are at most as many rounds as there are such faces:
-  // a fan's caps along a line go one per round.
-  for (int round = 0; round <= zeroAreaFaces; ++round)
+  out.flipped += flipCaps(mesh);
+  for (int round = 0; round < kMaxRounds; ++round)
     if (Round(mesh, out).run() == 0) break;
   removeUnreferencedVertices(mesh);
   out.left = count();

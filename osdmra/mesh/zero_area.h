@@ -36,8 +36,9 @@ constexpr double kZeroAreaHeight = 1e-10;
 /// True when face f of `mesh` is of zero area (kZeroAreaHeight).
 bool isZeroAreaFace(const TriMesh& mesh, int f);
 
-/// Mends the zero-area faces of a valid mesh (validate()) as described above, in
-/// rounds until none is left or a round changes nothing. Vertices a collapse leaves
+/// Mends the zero-area faces of a valid mesh (validate()) as described above: the caps'
+/// flips first, each cap after its neighbour's (a fan's caps along a line in one pass),
+/// then rounds until none is left or a round changes nothing. Vertices a collapse leaves
 /// unused are removed. Nothing changes when the mesh is not valid.
 ZeroAreaRepair removeZeroAreaFaces(TriMesh& mesh);
 
