@@ -125,16 +125,51 @@ double surfaceArea(const TriMesh& m) {
   return a;
 }
 
-TriMesh fannedCube(int k) {
-  std::vector<Eigen::RowVector3d> points;
-  std::map<std::array<long, 3>, int> index;
-  auto vertex = [&](const Eigen::RowVector3d& p) {
-    const std::array<long, 3> key = {std::lround(p(0) * k), std::lround(p(1) * k),
-                                     std::lround(p(2) * k)};
-    const auto [it, added] = index.emplace(key, static_cast<int>(points.size()));
-    if (added) points.push_back(p);
+namespace {
+
+// Points on the 1/k lattice of the unit cube, each kept once (sides meeting at an edge
+// share its points), and the mesh they make with `faces`.
+class LatticePoints {
+ public:
+  explicit LatticePoints(int k) : k_(k) {}
+  int operator()(const Eigen::RowVector3d& p) {
+    const std::array<long, 3> key = {std::lround(p(0) * k_), std::lround(p(1) * k_),
+                                     std::lround(p(2) * k_)};
+    const auto [it, added] = index_.emplace(key, static_cast<int>(points_.size()));
+    if (added) points_.push_back(p);
     return it->second;
-  };
+  }
+  TriMesh mesh(const std::vector<std::array<int, 3>>& faces) const {
+    TriMesh m;
+    m.V.resize(static_cast<Eigen::Index>(points_.size()), 3);
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      m.V.row(static_cast<Eigen::Index>(i)) = points_[i];
+    m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      m.F.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
+    return m;
+  }
+
+ private:
+  int k_;
+  std::map<std::array<long, 3>, int> index_;
+  std::vector<Eigen::RowVector3d> points_;
+};
+
+// The loop of a square side with corners `corners`, k points along each edge.
+std::vector<int> sideLoop(LatticePoints& vertex, const std::array<Eigen::RowVector3d, 4>& corners,
+                          int k) {
+  std::vector<int> loop;
+  for (int c = 0; c < 4; ++c)
+    for (int s = 0; s < k; ++s)
+      loop.push_back(vertex(corners[c] + (corners[(c + 1) % 4] - corners[c]) * s / k));
+  return loop;
+}
+
+}  // namespace
+
+TriMesh fannedCube(int k) {
+  LatticePoints vertex(k);
   std::vector<std::array<int, 3>> faces;
   for (int axis = 0; axis < 3; ++axis)
     for (int side = 0; side < 2; ++side) {
@@ -144,22 +179,32 @@ TriMesh fannedCube(int k) {
       u((axis + 1) % 3) = 1;
       v((axis + 2) % 3) = 1;
       if (side == 0) std::swap(u, v);  // counter-clockwise seen from outside
-      const Eigen::RowVector3d corners[4] = {o, o + u, o + u + v, o + v};
-      std::vector<int> loop;
-      for (int c = 0; c < 4; ++c)
-        for (int s = 0; s < k; ++s)
-          loop.push_back(vertex(corners[c] + (corners[(c + 1) % 4] - corners[c]) * s / k));
+      const std::vector<int> loop = sideLoop(vertex, {o, o + u, o + u + v, o + v}, k);
       const int n = static_cast<int>(loop.size());
       for (int i = 1; i + 1 < n; ++i)
         faces.push_back({loop[1], loop[(1 + i) % n], loop[(2 + i) % n]});
     }
-  TriMesh m;
-  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = points[i];
-  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    m.F.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-  return m;
+  return vertex.mesh(faces);
+}
+
+TriMesh cubeWithATopFannedFromACorner(int n) {
+  LatticePoints vertex(n);
+  std::vector<std::array<int, 3>> faces;
+  const Eigen::RowVector3d x(1, 0, 0), y(0, 1, 0), z(0, 0, 1), o(0, 0, 0);
+  // Each grid spans u and v from its origin, counter-clockwise seen from outside.
+  const std::array<std::array<Eigen::RowVector3d, 3>, 5> grids = {
+      {{o, y, x}, {o, x, z}, {y, z, x}, {o, z, y}, {x, y, z}}};
+  for (const auto& [origin, u, v] : grids)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        auto at = [&](int a, int b) { return vertex(origin + (u * a + v * b) / n); };
+        faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+  const std::vector<int> loop = sideLoop(vertex, {z, z + x, z + x + y, z + y}, n);
+  for (std::size_t i = 1; i + 1 < loop.size(); ++i)
+    faces.push_back({loop[0], loop[i], loop[i + 1]});
+  return vertex.mesh(faces);
 }
 
 TriMesh moebiusStrip(int n) {

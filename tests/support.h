@@ -81,6 +81,12 @@ double surfaceArea(const TriMesh& m);
 /// k = 4). Every side's loop runs counter-clockwise seen from outside.
 TriMesh fannedCube(int k);
 
+/// The unit cube with five sides meshed as n x n grids and its top (z = 1) one polygon
+/// of 4 n points fanned from its corner at the origin, as CAD exports fan: the fan's
+/// first and last n - 1 triangles lie along the two edges at that corner, two chains of
+/// caps around one vertex.
+TriMesh cubeWithATopFannedFromACorner(int n);
+
 /// A Moebius strip of n quads (2 n triangles) closed with a half twist: every face
 /// agrees with its neighbours' winding but at the twist, which no winding mends.
 TriMesh moebiusStrip(int n);

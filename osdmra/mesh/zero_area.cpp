@@ -41,6 +41,25 @@ bool zeroArea(const TriMesh& m, int a, int b, int c) {
   return normalOf(m, a, b, c).norm() <= kZeroAreaHeight * longest;
 }
 
+// A face's shortest and longest edges (edge i runs from corner i to corner i + 1), and
+// whether it is a needle (kNeedle) rather than a cap.
+struct Sides {
+  int shortest = 0, longest = 0;
+  bool needle = false;
+};
+
+Sides sidesOf(const TriMesh& m, int f) {
+  Sides s;
+  double lengths[3];
+  for (int i = 0; i < 3; ++i) {
+    lengths[i] = (point(m, m.F(f, (i + 1) % 3)) - point(m, m.F(f, i))).norm();
+    if (lengths[i] < lengths[s.shortest]) s.shortest = i;
+    if (lengths[i] > lengths[s.longest]) s.longest = i;
+  }
+  s.needle = lengths[s.shortest] <= kNeedle * lengths[s.longest];
+  return s;
+}
+
 // One round of mending: faces whose vertices an earlier change of the round touched
 // wait for the next round, so that every check reads the mesh the round started from.
 class Round {
@@ -67,13 +86,7 @@ class Round {
 
  private:
   bool mend(int f) {
-    int shortest = 0, longest = 0;
-    double lengths[3];
-    for (int i = 0; i < 3; ++i) {
-      lengths[i] = (point(m_, m_.F(f, (i + 1) % 3)) - point(m_, m_.F(f, i))).norm();
-      if (lengths[i] < lengths[shortest]) shortest = i;
-      if (lengths[i] > lengths[longest]) longest = i;
-    }
+    const Sides sides = sidesOf(m_, f);
     // A face alone (a fin cut off a non-manifold edge, say) is dropped: it is no
     // surface.
     if (conn_.twin(3 * f) < 0 && conn_.twin(3 * f + 1) < 0 && conn_.twin(3 * f + 2) < 0) {
@@ -83,8 +96,8 @@ class Round {
       return true;
     }
     // Halfedge 3 f + i runs from corner i to corner i + 1.
-    if (lengths[shortest] <= kNeedle * lengths[longest]) return collapse(3 * f + shortest);
-    return mendCap(3 * f + longest);
+    if (sides.needle) return collapse(3 * f + sides.shortest);
+    return mendCap(3 * f + sides.longest);
   }
 
   // The cap whose long edge is halfedge h (a -> b, m the third corner).
@@ -229,15 +242,10 @@ int flipCaps(TriMesh& m) {
     queued[f] = 0;
     const std::array<int, 3> c = {m.F(f, 0), m.F(f, 1), m.F(f, 2)};
     if (!zeroArea(m, c[0], c[1], c[2])) continue;
-    double lengths[3];
-    int shortest = 0, longest = 0;
-    for (int i = 0; i < 3; ++i) {
-      lengths[i] = (point(m, c[(i + 1) % 3]) - point(m, c[i])).norm();
-      if (lengths[i] < lengths[shortest]) shortest = i;
-      if (lengths[i] > lengths[longest]) longest = i;
-    }
-    if (lengths[shortest] <= kNeedle * lengths[longest]) continue;  // a needle
-    const int a = c[longest], b = c[(longest + 1) % 3], mid = c[(longest + 2) % 3];
+    const Sides sides = sidesOf(m, f);
+    if (sides.needle) continue;
+    const int l = sides.longest;
+    const int a = c[l], b = c[(l + 1) % 3], mid = c[(l + 2) % 3];
     const auto across = faceOf.find(halfedgeKey(b, a));
     if (across == faceOf.end()) continue;  // on the boundary
     const int g = across->second;

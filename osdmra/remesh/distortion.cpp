@@ -99,6 +99,10 @@ bool sameFace(const std::array<int, 3>& f, const std::array<int, 3>& g) {
   return f[0] == g[0] && f[1] == g[1] && f[2] == g[2];
 }
 
+bool inFace(int v, const std::array<int, 3>& f) {
+  return std::count(f.begin(), f.end(), v) == 1;
+}
+
 // The chart of the general case below when the faces its corners bring (their own,
 // and one around each vertex corner that none of those has) lay in one pass, as it
 // would lay them, in fixed arrays instead of its lists: most triangles, once the faces
@@ -111,9 +115,6 @@ bool imageInCornerFaces(const Points& V, const std::array<Placed, 3>& at,
     if (std::none_of(faces.begin(), faces.begin() + n,
                      [&](const auto& g) { return sameFace(f, g); }))
       faces[n++] = f;
-  };
-  auto inFace = [](int v, const std::array<int, 3>& f) {
-    return std::count(f.begin(), f.end(), v) == 1;
   };
   for (const Placed& c : at)
     if (!c.isVertex) add(c.face);
@@ -155,9 +156,6 @@ bool imageInCornerFaces(const Points& V, const std::array<Placed, 3>& at,
 bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
                 std::array<Vec2, 3>& image) {
   if (imageInCornerFaces(V, at, facesAround, image)) return true;
-  auto inFace = [](int v, const std::array<int, 3>& f) {
-    return std::count(f.begin(), f.end(), v) == 1;
-  };
   std::vector<std::array<int, 3>> faces;  // the corners' first, then the ones around
   auto add = [&](const std::array<int, 3>& f) {
     if (std::none_of(faces.begin(), faces.end(), [&](const auto& g) { return sameFace(f, g); }))

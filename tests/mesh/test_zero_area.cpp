@@ -4,9 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <array>
-#include <cmath>
-#include <map>
 #include <vector>
 
 #include "osdmra/mesh/zero_area.h"
@@ -24,14 +21,9 @@ int zeroAreaFaces(const TriMesh& m) {
   return n;
 }
 
-}  // namespace
-
-TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
-  TriMesh m = fannedCube(4);
-  validate(m, "cube");
-  const int caps = zeroAreaFaces(m);
-  ASSERT_EQ(caps, 12);  // two per side: (1, 2, 3) and (1, 3, 4) of its loop
-  const Points before = m.V;
+// Mends m and expects its `caps` flipped, nothing else done or left, and the mesh valid,
+// of the same topology and area.
+void expectCapsFlipped(TriMesh& m, int caps) {
   const double a = surfaceArea(m);
   const Topology t = topology(m);
   const ZeroAreaRepair r = removeZeroAreaFaces(m);
@@ -40,8 +32,19 @@ TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
   EXPECT_EQ(zeroAreaFaces(m), 0);
   EXPECT_NO_THROW(validate(m, "mended"));
   EXPECT_EQ(topology(m), t);
-  EXPECT_EQ(m.V, before);  // flips move no vertex
   EXPECT_NEAR(surfaceArea(m), a, 1e-12);
+}
+
+}  // namespace
+
+TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
+  TriMesh m = fannedCube(4);
+  validate(m, "cube");
+  const int caps = zeroAreaFaces(m);
+  ASSERT_EQ(caps, 12);  // two per side: (1, 2, 3) and (1, 3, 4) of its loop
+  const Points before = m.V;
+  expectCapsFlipped(m, caps);
+  EXPECT_EQ(m.V, before);  // flips move no vertex
   // Every face still lies in one side of the cube (a coordinate at 0 or 1 shared by its
   // three corners): the flips split faces of the same side.
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -55,48 +58,6 @@ TEST(ZeroArea, CapsOfAFannedPolygonAreFlippedIntoTheSameSurface) {
   }
 }
 
-// The unit cube with five sides meshed as n x n grids and its top (z = 1) one polygon
-// of 4 n points fanned from its corner at the origin, as CAD exports fan: the fan's
-// first and last n - 1 triangles lie along the two edges at that corner, two chains of
-// caps around one vertex.
-static TriMesh cubeWithATopFannedFromACorner(int n) {
-  std::map<std::array<long, 3>, int> index;
-  std::vector<Eigen::RowVector3d> points;
-  auto vertex = [&](const Eigen::RowVector3d& p) {
-    const std::array<long, 3> key = {std::lround(p(0) * n), std::lround(p(1) * n),
-                                     std::lround(p(2) * n)};
-    const auto [it, added] = index.emplace(key, static_cast<int>(points.size()));
-    if (added) points.push_back(p);
-    return it->second;
-  };
-  std::vector<std::array<int, 3>> faces;
-  const Eigen::RowVector3d x(1, 0, 0), y(0, 1, 0), z(0, 0, 1), o(0, 0, 0);
-  // Each grid spans u and v from its origin, counter-clockwise seen from outside.
-  const std::array<std::array<Eigen::RowVector3d, 3>, 5> grids = {
-      {{o, y, x}, {o, x, z}, {y, z, x}, {o, z, y}, {x, y, z}}};
-  for (const auto& [origin, u, v] : grids)
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        auto at = [&](int a, int b) { return vertex(origin + (u * a + v * b) / n); };
-        faces.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-        faces.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-      }
-  const Eigen::RowVector3d corners[4] = {z, z + x, z + x + y, z + y};
-  std::vector<int> loop;
-  for (int c = 0; c < 4; ++c)
-    for (int s = 0; s < n; ++s)
-      loop.push_back(vertex(corners[c] + (corners[(c + 1) % 4] - corners[c]) * s / n));
-  for (std::size_t i = 1; i + 1 < loop.size(); ++i)
-    faces.push_back({loop[0], loop[i], loop[i + 1]});
-  TriMesh m;
-  m.V.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) m.V.row(static_cast<Eigen::Index>(i)) = points[i];
-  m.F.resize(static_cast<Eigen::Index>(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    m.F.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2];
-  return m;
-}
-
 // Long fans of caps: 68 along one edge of each side (more rounds than the 64 the
 // mending once stopped at, which left 24 caps), and 39 along each of the two edges at
 // the corner of a fanned top (two chains around one vertex, which once went one cap a
@@ -106,15 +67,7 @@ TEST(ZeroArea, LongFansOfCapsAreAllFlipped) {
     validate(m, "cube");
     const int caps = zeroAreaFaces(m);
     ASSERT_TRUE(caps == 6 * 68 || caps == 2 * 39) << caps;
-    const double a = surfaceArea(m);
-    const Topology t = topology(m);
-    const ZeroAreaRepair r = removeZeroAreaFaces(m);
-    EXPECT_EQ(r.flipped, caps);
-    EXPECT_EQ(r.dropped + r.collapsed + r.left, 0);
-    EXPECT_EQ(zeroAreaFaces(m), 0);
-    EXPECT_NO_THROW(validate(m, "mended"));
-    EXPECT_EQ(topology(m), t);
-    EXPECT_NEAR(surfaceArea(m), a, 1e-12);
+    expectCapsFlipped(m, caps);
   }
 }
 
