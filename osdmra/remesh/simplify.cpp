@@ -67,6 +67,7 @@ class Simplifier {
     movedStamp_.assign(n, -1);
     movedIndex_.assign(n, -1);
     checkedStamp_.assign(m.F.rows(), -1);
+    markTips(m);
     smallestAngle_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       const auto flat = layFlat(m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
@@ -107,6 +108,9 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
+  void markTips(const TriMesh& m);
+  double largestTipShare(int tip, const Plan* p) const;
+  bool unbalancesTips(const Plan& p) const;
   using Box = Eigen::AlignedBox3d;
   bool crossesMesh(const Plan& p) const;
   void gatherNear(const Ring& r) const;
@@ -142,7 +146,14 @@ class Simplifier {
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
   std::vector<double> smallestAngle_;  // per input face, degrees
-  std::vector<int> checkedStamp_;      // per input face: the plan that last checked it
+  // Per input vertex at the tip of a protrusion (markTips): its cone's faces, each as
+  // (next ring vertex, the one after, apex angle); empty elsewhere.
+  struct Sector {
+    int from, to;
+    double angle;
+  };
+  std::vector<std::vector<Sector>> tipCone_;
+  std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
   std::vector<RemovalRecord> removals_;
   std::vector<int> removalOf_, triangleOf_;
 };
@@ -315,8 +326,90 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   if (!placePoints(v, p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
   if (worst > limits().anisotropy) return false;
+  if (unbalancesTips(p)) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kCrossing));
   return !crossesMesh(p);
+}
+
+// The tips of protrusions: interior input vertices whose one-ring's angles sum to under
+// 2 pi / a, a the last stage's largest exponent (the vertices plan() keeps as too
+// curved to flatten).
+void Simplifier::markTips(const TriMesh& m) {
+  tipCone_.assign(static_cast<std::size_t>(m.V.rows()), {});
+  for (int v = 0; v < m.V.rows(); ++v) {
+    std::vector<Sector> cone;
+    double total = 0;
+    for (int f : inputFaces_[v]) {
+      const int i = m.F(f, 0) == v ? 0 : m.F(f, 1) == v ? 1 : 2;
+      const int a = m.F(f, (i + 1) % 3), b = m.F(f, (i + 2) % 3);
+      const Vec3 ea = (V_.row(a) - V_.row(v)).transpose(), eb = (V_.row(b) - V_.row(v)).transpose();
+      cone.push_back({a, b, std::atan2(ea.cross(eb).norm(), ea.dot(eb))});
+      total += cone.back().angle;
+    }
+    Ring r;
+    if (ring(v, r) && !r.boundary && total < 2 * kPi / stages_.back().power)
+      tipCone_[v] = std::move(cone);
+  }
+}
+
+// The largest share of tip's cone (its input faces' apex angles) that one face around
+// the tip holds, now or (p) once the plan is made. A sector goes to the face holding
+// both its far corners; a far corner that is a vertex of the mesh lies on an edge of
+// the faces around the tip, and the sector goes to the face holding the other one; a
+// sector between two faces is split between them.
+double Simplifier::largestTipShare(int tip, const Plan* p) const {
+  // Where an input vertex is: -1 a vertex of the mesh, else a face (a plan's new face
+  // q as faces_.size() + q).
+  const int fresh = static_cast<int>(faces_.size());
+  auto holder = [&](int x) {
+    if (p && movedStamp_[x] == plans_) return fresh + p->moved[movedIndex_[x]].triangle;
+    return removed_[x] ? param_[x].face : -1;
+  };
+  auto hasTip = [&](int f) {
+    if (f < fresh) return std::count(faces_[f].begin(), faces_[f].end(), tip) == 1;
+    const auto& t = p->triangles[f - fresh];
+    return p->vertex(t[0]) == tip || p->vertex(t[1]) == tip || p->vertex(t[2]) == tip;
+  };
+  std::vector<std::pair<int, double>> shares;
+  auto add = [&](int f, double angle) {
+    if (f < 0 || !hasTip(f)) return;
+    for (auto& [g, a] : shares)
+      if (g == f) {
+        a += angle;
+        return;
+      }
+    shares.emplace_back(f, angle);
+  };
+  double total = 0;
+  for (const Sector& s : tipCone_[tip]) {
+    total += s.angle;
+    const int a = holder(s.from), b = holder(s.to);
+    if (a == b || a < 0 || b < 0) {
+      add(a < 0 ? b : a, s.angle);
+    } else {
+      add(a, 0.5 * s.angle);
+      add(b, 0.5 * s.angle);
+    }
+  }
+  double largest = 0;
+  for (const auto& [f, a] : shares) largest = std::max(largest, a / total);
+  return largest;
+}
+
+// Whether the plan leaves a face around a tip of the input holding more than half of
+// the tip's cone, where none did: the grid then samples the tip from that face's corner
+// alone, and its first triangle there, spanning more than half the turn around a
+// narrow cone, faces against it (the cow's horn of docs/REMESH.md: seven of its ten
+// faces in one base face's corner, the tip's three grid neighbours within 7 degrees
+// of each other).
+bool Simplifier::unbalancesTips(const Plan& p) const {
+  for (std::size_t k = 0; k + (p.ring.boundary ? 0 : 1) < p.ring.verts.size(); ++k) {
+    const int t = p.ring.verts[k];
+    if (tipCone_[t].empty()) continue;
+    const double after = largestTipShare(t, &p);
+    if (after > 0.5 && after > largestTipShare(t, nullptr)) return true;
+  }
+  return false;
 }
 
 // With noNewCrossings_: whether a new face of the plan would meet a live face g of the
