@@ -333,7 +333,8 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
 
 // The tips of protrusions: interior input vertices whose one-ring's angles sum to under
 // 2 pi / a, a the last stage's largest exponent (the vertices plan() keeps as too
-// curved to flatten).
+// curved to flatten), but for a scan's folds, which are removed at any exponent (a
+// crumple's vertices have small angle sums too).
 void Simplifier::markTips(const TriMesh& m) {
   tipCone_.assign(static_cast<std::size_t>(m.V.rows()), {});
   for (int v = 0; v < m.V.rows(); ++v) {
@@ -347,7 +348,7 @@ void Simplifier::markTips(const TriMesh& m) {
       total += cone.back().angle;
     }
     Ring r;
-    if (ring(v, r) && !r.boundary && total < 2 * kPi / stages_.back().power)
+    if (!fold_[v] && ring(v, r) && !r.boundary && total < 2 * kPi / stages_.back().power)
       tipCone_[v] = std::move(cone);
   }
 }
