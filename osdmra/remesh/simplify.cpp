@@ -86,6 +86,7 @@ class Simplifier {
     kShape,
     kPinch,
     kDistortion,
+    kTip,
     kCrossing,
     kTopology,
     kCorner,
@@ -326,6 +327,7 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   if (!placePoints(v, p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
   if (worst > limits().anisotropy) return false;
+  refusal_ = std::max(refusal_, static_cast<int>(kTip));
   if (unbalancesTips(p)) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kCrossing));
   return !crossesMesh(p);
@@ -714,6 +716,8 @@ std::string Simplifier::whyKept() {
       "no retriangulation of their one-ring has every angle above the last stage's bound",
       "every retriangulation would join two vertices already joined (a pinch)",
       "removing them would distort the parameterisation beyond the last stage's bounds",
+      "removing them would leave one base face holding more than half the cone of a tip of "
+      "the input (a vertex whose faces' angles sum to under 192 degrees)",
       "their removal would make the base cross itself",
       "their removal would change the topology (a one-ring of three faces, or not a disc)",
       "they are corners or ends of feature lines, corners of boundaries, or have over 24 faces",
