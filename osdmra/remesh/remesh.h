@@ -7,7 +7,8 @@
 //    of independent sets, each removal's one-ring flattened and retriangulated so that
 //    the old faces map onto the new ones bijectively, checked for every removal
 //    (removal.h), with the distortion of every input triangle between its corners'
-//    places bounded, in the new faces hinged flat (distortion.h); the bounds relax in
+//    places bounded, in the new faces hinged flat (distortion.h), and the cone of every
+//    tip of a protrusion kept shared among the faces around it; the bounds relax in
 //    stages only when nothing else can go. Every input vertex keeps its place on the
 //    simplified mesh. The result is a base mesh M^0 of about the requested size.
 //    Genus, boundary loops and components are kept.

@@ -2,7 +2,10 @@
 // vertex's place on it (MAPS, Lee et al. 1998). Vertices go in rounds of independent
 // sets, least important first (small one-ring area and curvature); each removal is
 // certified bijective (removal.h) and bounded in distortion (distortion.h), else
-// refused. The bounds relax in stages only when nothing can go under the current ones.
+// refused; so is one that would make the mesh cross itself (noNewCrossings) or leave
+// one face around the tip of a protrusion of the input holding more than half of the
+// tip's cone (the grid would sample the tip from that face's corner alone, and fold
+// there). The bounds relax in stages only when nothing can go under the current ones.
 #pragma once
 
 #include <array>
