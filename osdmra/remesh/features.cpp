@@ -138,7 +138,7 @@ void markCorners(const Points& V, const std::vector<std::vector<int>>& along, do
       continue;
     const Vec3 a = (V.row(v) - V.row(left.back())).transpose().normalized(),
                b = (V.row(right.back()) - V.row(v)).transpose().normalized();
-    turn[v] = std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / kPi;
+    turn[v] = angleBetween(a, b) * 180.0 / kPi;
   }
   for (int v = 0; v < n; ++v) {
     if (!(turn[v] > kMaxTurn)) continue;

@@ -16,6 +16,12 @@ using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
 
+/// The angle between two vectors in space, in [0, pi]: atan2 of |a x b| and a . b, exact
+/// near 0 and pi where acos of the normalised dot product is not.
+inline double angleBetween(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
 /// An undirected edge {a, b} as one key.
 inline std::uint64_t edgeKey(int a, int b) {
   if (a > b) std::swap(a, b);

@@ -92,7 +92,7 @@ Flattening flattenRing(const Vec3& center, const std::vector<Vec3>& ring, bool b
   double total = 0;
   for (int k = 0; k < m; ++k) {
     const Vec3 a = ring[k] - center, b = ring[k + 1] - center;
-    theta[k] = std::atan2(a.cross(b).norm(), a.dot(b));
+    theta[k] = angleBetween(a, b);
     total += theta[k];
   }
   out.exponent = total > 1e-12 ? (boundary ? kPi : 2 * kPi) / total : 0.0;

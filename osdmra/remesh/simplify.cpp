@@ -346,7 +346,7 @@ void Simplifier::markTips(const TriMesh& m) {
       const int i = m.F(f, 0) == v ? 0 : m.F(f, 1) == v ? 1 : 2;
       const int a = m.F(f, (i + 1) % 3), b = m.F(f, (i + 2) % 3);
       const Vec3 ea = (V_.row(a) - V_.row(v)).transpose(), eb = (V_.row(b) - V_.row(v)).transpose();
-      cone.push_back({a, b, std::atan2(ea.cross(eb).norm(), ea.dot(eb))});
+      cone.push_back({a, b, angleBetween(ea, eb)});
       total += cone.back().angle;
     }
     Ring r;
@@ -622,7 +622,7 @@ std::vector<Simplifier::Candidate> Simplifier::candidates() const {
       const Vec3 a = V_.row(r.verts[k]) - pv.transpose(),
                  b = V_.row(r.verts[k + 1]) - pv.transpose();
       area += 0.5 * a.cross(b).norm();
-      angles += std::atan2(a.cross(b).norm(), a.dot(b));
+      angles += angleBetween(a, b);
       normals[k] = a.cross(b).normalized();
     }
     for (int k = 0; k < m; ++k) {
@@ -630,7 +630,7 @@ std::vector<Simplifier::Candidate> Simplifier::candidates() const {
       extent = std::max(extent, len);
       if (k > 0 || !r.boundary) {
         const Vec3& n0 = normals[(k + m - 1) % m];
-        bending += std::atan2(n0.cross(normals[k]).norm(), n0.dot(normals[k])) * len;
+        bending += angleBetween(n0, normals[k]) * len;
       }
     }
     const double curv =

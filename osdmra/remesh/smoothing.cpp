@@ -41,7 +41,7 @@ Vec2 meanValuePlace(const OneRing& r) {
   std::vector<double> halfTan(n);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3 a = r.position[k] - r.centre, b = r.position[(k + 1) % n] - r.centre;
-    halfTan[k] = std::tan(0.5 * std::atan2(a.cross(b).norm(), a.dot(b)));
+    halfTan[k] = std::tan(0.5 * angleBetween(a, b));
   }
   Vec2 sum = Vec2::Zero();
   double total = 0;
