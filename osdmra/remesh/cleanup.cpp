@@ -194,6 +194,8 @@ class Cleaner {
   std::vector<char> inputCrossing_;
   std::vector<int> touched_;
   std::vector<char> isTouched_;
+  // Per output vertex, the faces within two rings of it (crossings), once asked for.
+  mutable std::vector<std::vector<int>> facesNear_;
 };
 
 Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
@@ -223,7 +225,8 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       local_(out.mesh.V.rows(), -1),
       diskBudget_(kDiskBudget * static_cast<long long>(out.mesh.V.rows())),
       untangleBudget_(kUntangleBudget * static_cast<long long>(out.mesh.V.rows())),
-      isTouched_(out.mesh.V.rows(), 0) {}
+      isTouched_(out.mesh.V.rows(), 0),
+      facesNear_(out.mesh.V.rows()) {}
 
 // The smoother reference of the repairs: the input's area-weighted vertex normals
 // interpolated where v was sampled.
@@ -275,18 +278,40 @@ bool Cleaner::faceCrosses(Eigen::Index f) const {
 // could come to cross).
 int Cleaner::crossings(int v) const {
   const std::vector<int>&start = outputAround_.start, &at = outputAround_.faces;
-  std::vector<int> around;
-  for (int q = start[v]; q < start[v + 1]; ++q)
-    for (int k = 0; k < 3; ++k)
-      for (int w : rings_.ring(m_.F(at[q], k)))
-        for (int r = start[w]; r < start[w + 1]; ++r) around.push_back(at[r]);
-  sortUnique(around);
+  // The faces within two rings depend on the connectivity alone, which the clean-up
+  // keeps: gathered once per vertex (the untangling asks again at every trial move).
+  std::vector<int>& around = facesNear_[v];
+  if (around.empty()) {
+    for (int q = start[v]; q < start[v + 1]; ++q)
+      for (int k = 0; k < 3; ++k)
+        for (int w : rings_.ring(m_.F(at[q], k)))
+          for (int r = start[w]; r < start[w + 1]; ++r) around.push_back(at[r]);
+    sortUnique(around);
+  }
+  // Faces whose boxes lie apart by more than a billionth of their sizes do not meet
+  // (trianglesMeet's tolerances reach a trillionth): most pairs end at the boxes.
+  auto boxOf = [&](int f) {
+    Eigen::AlignedBox3d box;
+    for (int k = 0; k < 3; ++k) box.extend(m_.V.row(m_.F(f, k)).transpose());
+    return box;
+  };
+  auto apart = [](const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+    const double margin = 1e-9 * (a.sizes().maxCoeff() + b.sizes().maxCoeff());
+    return ((a.min().array() - margin) > b.max().array()).any() ||
+           ((b.min().array() - margin) > a.max().array()).any();
+  };
+  std::vector<Eigen::AlignedBox3d> boxes(around.size());
+  for (std::size_t i = 0; i < around.size(); ++i) boxes[i] = boxOf(around[i]);
   int count = 0;
   for (int q = start[v]; q < start[v + 1]; ++q) {
     const int f = at[q];
-    for (int g : around)
-      count += g != f && trianglesMeet(m_.V, {m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)},
-                                       {m_.F(g, 0), m_.F(g, 1), m_.F(g, 2)});
+    const Eigen::AlignedBox3d box = boxOf(f);
+    for (std::size_t i = 0; i < around.size(); ++i) {
+      const int g = around[i];
+      count += g != f && !apart(box, boxes[i]) &&
+               trianglesMeet(m_.V, {m_.F(f, 0), m_.F(f, 1), m_.F(f, 2)},
+                             {m_.F(g, 0), m_.F(g, 1), m_.F(g, 2)});
+    }
   }
   return count;
 }
