@@ -699,9 +699,10 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
     if (refusedAndUnchanged(c.v)) continue;
     Ring r;
     Plan p;
-    if (!ring(c.v, r) || !plan(c.v, std::move(r), p)) {
+    const bool disc = ring(c.v, r);
+    if (!disc || !plan(c.v, std::move(r), p)) {
       // A crossing depends on faces near in space, not in the mesh: planned again.
-      if (refusal_ != kCrossing) {
+      if (!disc || refusal_ != kCrossing) {
         refusedAt_[c.v] = removalsMade_;
         refusedStage_[c.v] = static_cast<int>(stage_);
       }
