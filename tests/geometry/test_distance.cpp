@@ -219,6 +219,24 @@ TEST(DistanceBvh, MatchesBruteForce) {
   }
 }
 
+// Large meshes build the hierarchy's two halves on two threads (at least 65,536
+// faces); the second half's nodes are appended after the first's with their child
+// indices moved. A query then still finds the nearest triangle wherever it lies.
+TEST(DistanceBvh, MatchesBruteForceWhenBuiltOnTwoThreads) {
+  const TriMesh m = soup(70000, 13);
+  const TriangleBvh bvh(m);
+  const std::vector<Vec3> c = corners(m);
+  EXPECT_EQ(bvh.depth(), 16);  // 1 + ceil(log2(70000 / 4))
+  std::mt19937_64 rng(14);
+  for (int q = 0; q < 100; ++q) {
+    const Vec3 p = randomPoint(rng, -0.5, 1.5);
+    const ClosestPoint got = bvh.closestPoint(p);
+    const Brute want = bruteForce(c, p);
+    ASSERT_NEAR(got.distance, want.distance, 1e-12) << q;
+    ASSERT_NEAR(triangleDistance(m, got.face, p), got.distance, 1e-12) << q;
+  }
+}
+
 TEST(DistanceBvh, SingleTriangleAndCoincidentTriangles) {
   TriMesh one = unitSquare(0.0);
   one.F.conservativeResize(1, 3);
