@@ -199,24 +199,34 @@ TEST(DistanceTriangle, NoPointOfTheTriangleIsNearer) {
   }
 }
 
-TEST(DistanceBvh, MatchesBruteForce) {
-  const TriMesh m = soup(2000, 11);
-  const TriangleBvh bvh(m);
+namespace {
+
+// Random queries around the unit cube: the hierarchy's answer is the brute force's.
+void expectClosestAsBruteForce(const TriMesh& m, const TriangleBvh& bvh, int queries,
+                               std::uint64_t seed) {
   const std::vector<Vec3> c = corners(m);
-  EXPECT_EQ(bvh.numTriangles(), 2000);
-  EXPECT_EQ(bvh.depth(), 10);  // 1 + ceil(log2(2000 / 4))
-  std::mt19937_64 rng(12);
-  for (int q = 0; q < 2000; ++q) {
+  std::mt19937_64 rng(seed);
+  for (int q = 0; q < queries; ++q) {
     const Vec3 p = randomPoint(rng, -0.5, 1.5);
     const ClosestPoint got = bvh.closestPoint(p);
     const Brute want = bruteForce(c, p);
     ASSERT_NEAR(got.distance, want.distance, 1e-12) << q;
     ASSERT_LE((got.point - want.point).norm(), 1e-12) << q;
     ASSERT_GE(got.face, 0);
-    ASSERT_LT(got.face, 2000);
+    ASSERT_LT(got.face, m.F.rows());
     // The face reported is one that attains the distance.
     ASSERT_NEAR(triangleDistance(m, got.face, p), got.distance, 1e-12) << q;
   }
+}
+
+}  // namespace
+
+TEST(DistanceBvh, MatchesBruteForce) {
+  const TriMesh m = soup(2000, 11);
+  const TriangleBvh bvh(m);
+  EXPECT_EQ(bvh.numTriangles(), 2000);
+  EXPECT_EQ(bvh.depth(), 10);  // 1 + ceil(log2(2000 / 4))
+  expectClosestAsBruteForce(m, bvh, 2000, 12);
 }
 
 // Large meshes build the hierarchy's two halves on two threads (at least 65,536
@@ -225,16 +235,8 @@ TEST(DistanceBvh, MatchesBruteForce) {
 TEST(DistanceBvh, MatchesBruteForceWhenBuiltOnTwoThreads) {
   const TriMesh m = soup(70000, 13);
   const TriangleBvh bvh(m);
-  const std::vector<Vec3> c = corners(m);
   EXPECT_EQ(bvh.depth(), 16);  // 1 + ceil(log2(70000 / 4))
-  std::mt19937_64 rng(14);
-  for (int q = 0; q < 100; ++q) {
-    const Vec3 p = randomPoint(rng, -0.5, 1.5);
-    const ClosestPoint got = bvh.closestPoint(p);
-    const Brute want = bruteForce(c, p);
-    ASSERT_NEAR(got.distance, want.distance, 1e-12) << q;
-    ASSERT_NEAR(triangleDistance(m, got.face, p), got.distance, 1e-12) << q;
-  }
+  expectClosestAsBruteForce(m, bvh, 100, 14);
 }
 
 TEST(DistanceBvh, SingleTriangleAndCoincidentTriangles) {
