@@ -12,7 +12,8 @@
 //    stages only when nothing else can go. Every input vertex keeps its place on the
 //    simplified mesh. The result is a base mesh M^0 of about the requested size.
 //    Genus, boundary loops and components are kept.
-// 3. Optionally, smoothing of those places (smoothing.h; off by default).
+// 3. Smoothing of those places (smoothing.h): each moved to lower the stretch of the
+//    map, within the same bounds, so that the grid samples the surface evenly.
 // 4. Resampling (resample.h): each base face split J times, every grid point placed on
 //    the input through the parameterisation made affine on each input triangle between
 //    its corners' places (charts.h): the map whose distortion step 2 bounded.
@@ -49,10 +50,13 @@ struct RemeshOptions {
   /// 4 edges (shorter ones on scans are noise). 180 turns features off. 70 was best
   /// over the four scans of docs/REMESH.md (60 pins noisy creases of the bunny).
   double featureAngle = 70.0;
-  /// Sweeps of the parameterisation's smoothing (smoothing.h, MAPS section 4.3) before
-  /// the resampling. Off by default: on the corpus of docs/REMESH.md, 5 sweeps left
-  /// defects on 8 of 90 runs against 4 without, and more clean-up.
-  int smoothingSweeps = 0;
+  /// Sweeps of the parameterisation's smoothing (smoothing.h: each input vertex's place
+  /// moved to lower the stretch of the map from the base to the input, so that a
+  /// uniform grid samples the surface evenly) before the resampling; 0 turns it off.
+  /// On the corpus of docs/REMESH.md, 5 sweeps brought the bunny over 150 faces at
+  /// J = 5 from 0.547% to 0.457% of its diagonal with no run gaining a defect; 3 left
+  /// a fold on the decimated knight. About a tenth of remesh()'s time on dense scans.
+  int smoothingSweeps = 5;
   /// Refuse every removal of the simplification whose new faces would cross a face of
   /// the shrinking mesh that the faces they replace did not cross, so that the base
   /// crosses itself no more than the input does: where the input crosses itself, a

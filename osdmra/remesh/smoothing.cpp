@@ -1,5 +1,6 @@
 #include "osdmra/remesh/smoothing.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -34,23 +35,53 @@ bool oneRingIn(const TriMesh& input, const Connectivity& conn, const BaseCharts&
   return r.at.size() >= 3;
 }
 
-// Floater's mean value coordinates of the centre over its one-ring, from the input's
-// angles and lengths: positive, and reproducing a flat ring's centre exactly.
-Vec2 meanValuePlace(const OneRing& r) {
+// The ring's stretch with its centre at `u`: over its triangles, the surface area times
+// the squared Frobenius norm of the map J from the chart to the surface (Sander et al.
+// 2001's L2 stretch, summed as their L2 norm is), and its gradient in u. A grid of the
+// chart samples the surface at spacings |J| times its own, so this is low where the
+// surface is spread evenly over the chart; it is a barrier at a fold (J grows without
+// bound as a triangle of the chart flattens), +infinity past one.
+double stretch(const OneRing& r, const Vec2& u, Vec2* gradient = nullptr) {
   const std::size_t n = r.at.size();
-  std::vector<double> halfTan(n);
+  double e = 0;
+  if (gradient) gradient->setZero();
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 a = r.position[k] - r.centre, b = r.position[(k + 1) % n] - r.centre;
-    halfTan[k] = std::tan(0.5 * angleBetween(a, b));
+    const std::size_t l = (k + 1) % n;
+    Eigen::Matrix2d q;
+    q.col(0) = r.at[k] - u;
+    q.col(1) = r.at[l] - u;
+    if (!(q.determinant() > 0)) return std::numeric_limits<double>::infinity();
+    Eigen::Matrix<double, 3, 2> p;
+    p.col(0) = r.position[k] - r.centre;
+    p.col(1) = r.position[l] - r.centre;
+    const Eigen::Matrix2d qInverse = q.inverse();
+    const Eigen::Matrix<double, 3, 2> j = p * qInverse;
+    const double area = 0.5 * p.col(0).cross(p.col(1)).norm();
+    e += area * j.squaredNorm();
+    if (!gradient) continue;
+    // Both columns of q move with -u: dJ = J [d d] q^-1 for a step d of u.
+    for (int axis = 0; axis < 2; ++axis) {
+      Eigen::Matrix2d dq = Eigen::Matrix2d::Zero();
+      dq.row(axis).setOnes();
+      (*gradient)[axis] += 2 * area * (j.cwiseProduct(j * dq * qInverse)).sum();
+    }
   }
-  Vec2 sum = Vec2::Zero();
-  double total = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double w = (halfTan[(k + n - 1) % n] + halfTan[k]) / (r.position[k] - r.centre).norm();
-    sum += w * r.at[k];
-    total += w;
-  }
-  return sum / total;
+  return e;
+}
+
+// The centre moved down the stretch's gradient by the longest of a quarter, an eighth,
+// ... of its distance to the nearest neighbour that lowers the stretch (a backtracking
+// line search); the centre itself where none does.
+Vec2 lowerStretchPlace(const OneRing& r, const Vec2& u) {
+  Vec2 g;
+  const double e = stretch(r, u, &g);
+  if (!std::isfinite(e) || !(g.norm() > 0)) return u;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Vec2& a : r.at) nearest = std::min(nearest, (a - u).norm());
+  const Vec2 down = -g / g.norm();
+  for (double t = 0.25 * nearest; t > 1e-3 * nearest; t *= 0.5)
+    if (stretch(r, u + t * down) < e) return u + t * down;
+  return u;
 }
 
 // The largest anisotropy of the triangles around the centre placed at `centre`
@@ -110,7 +141,8 @@ SmoothingReport smoothParameters(const TriMesh& input, const Connectivity& input
       Vec2 now;
       if (!charts.place(face, s.params[x], now)) continue;
       const double bound = std::max(options.anisotropy, worstAround(r, now));
-      const Vec2 target = meanValuePlace(r);
+      const Vec2 target = lowerStretchPlace(r, now);
+      if (target == now) continue;  // at a minimum of its ring's stretch already
       // The whole way, else half of it: kept if nothing folds and the distortion stays
       // within the bound (or, where it was over already, does not rise), in every chart
       // that sees the triangles around.

@@ -311,10 +311,16 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   for (const char* key :
        {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
         "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
-        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []",
-        "\"grid_map\": {\"used\": \"straightened\", \"straightened_defects\": 0, "
-        "\"exact_defects\": -1}"})
+        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
+  // The map kept left nothing. Since the parameterisation is smoothed (smoothing.h) the
+  // straightened map leaves 14-21 defects on this noisy torus at J = 4 (none before), and
+  // the exact inverse, which the smoothing does not change, is kept instead.
+  EXPECT_TRUE(r.out.find("\"grid_map\": {\"used\": \"straightened\", \"straightened_defects\": "
+                         "0, \"exact_defects\": -1}") != std::string::npos ||
+              (r.out.find("\"used\": \"exact\"") != std::string::npos &&
+               r.out.find("\"exact_defects\": 0}") != std::string::npos))
+      << r.out;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.
