@@ -50,6 +50,8 @@ RemeshOptions remeshOptions(const Args& args) {
   o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
   o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
   o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
+  o.smoothingSweeps =
+      static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
   return o;
 }
 

@@ -91,7 +91,7 @@ int cmdLod(const Argv& argv) {
   Args args("lod", argv,
             {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
              "importance", "selection", "placement", "metric", "samples", "seed", "base-faces",
-             "feature-angle", "min-component-faces", "max-faces"},
+             "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps"},
             flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
@@ -170,7 +170,7 @@ int cmdSweep(const Argv& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
              "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle",
-             "min-component-faces", "max-faces"},
+             "min-component-faces", "max-faces", "smoothing-sweeps"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
@@ -324,7 +324,7 @@ Json demoScheme(const DemoSetup& setup, const TriMesh& mesh, Scheme scheme,
 int cmdDemo(const Argv& argv) {
   Args args("demo", argv,
             {"rings", "out", "samples", "seed", "points", "base-faces", "levels", "feature-angle",
-             "min-component-faces", "max-faces"},
+             "min-component-faces", "max-faces", "smoothing-sweeps"},
             flags({"remesh"}));
   if (args.positional().size() > 1)
     throw Error("demo: at most one input mesh (default: the bundled head)");

@@ -64,7 +64,7 @@ commands:
                                and the level of detail's distance to the input as
                                given are reported apart
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
-                 [--min-component-faces F] [--max-faces M]
+                 [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -77,7 +77,8 @@ commands:
                                components of fewer than F faces are dropped first
                                (default 0: all kept); with --max-faces, a base
                                larger than asked is split fewer times, keeping the
-                               output within M faces
+                               output within M faces; S sweeps (default 5, 0: none)
+                               lower the parameterisation's stretch first
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
                                (lod's defaults but --placement levels)

@@ -104,8 +104,8 @@ int cmdShape(const Argv& argv) {
 
 int cmdRemesh(const Argv& argv) {
   Args args("remesh", argv,
-            {"base-faces", "levels", "feature-angle", "min-component-faces", "max-faces", "output",
-             "samples", "seed"},
+            {"base-faces", "levels", "feature-angle", "min-component-faces", "max-faces",
+             "smoothing-sweeps", "output", "samples", "seed"},
             flags());
   args.expectPositional(1, "one input mesh: osdmra remesh IN --base-faces N --levels J -o OUT");
   const Common opt = common(args);

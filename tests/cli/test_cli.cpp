@@ -321,6 +321,21 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
               (r.out.find("\"used\": \"exact\"") != std::string::npos &&
                r.out.find("\"exact_defects\": 0}") != std::string::npos))
       << r.out;
+  // Without the smoothing (--smoothing-sweeps 0) the straightened map alone is clean
+  // there, as it was before the smoothing; a negative count is refused, by its flag.
+  const Result unsmoothed =
+      run("remesh " + path("t3.obj") +
+          " --base-faces 100 --levels 4 --smoothing-sweeps 0 --json -o " + path("u.ply"));
+  ASSERT_EQ(unsmoothed.status, 0) << unsmoothed.err;
+  EXPECT_NE(unsmoothed.out.find("\"grid_map\": {\"used\": \"straightened\", "
+                                "\"straightened_defects\": 0, \"exact_defects\": -1}"),
+            std::string::npos)
+      << unsmoothed.out;
+  const Result negative =
+      run("remesh " + path("t3.obj") + " --smoothing-sweeps -1 -o " + path("n.ply"));
+  EXPECT_NE(negative.status, 0);
+  EXPECT_NE(negative.err.find("--smoothing-sweeps"), std::string::npos) << negative.err;
+  EXPECT_FALSE(fs::exists(path("n.ply")));
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.
