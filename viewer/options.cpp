@@ -25,7 +25,8 @@ const char* const kUsage =
     "                      (osdmra remesh) with --base-faces N (default 300),\n"
     "                      --levels J (default 5) and --feature-angle A (default 70);\n"
     "                      --min-component-faces F drops components under F faces;\n"
-    "                      --max-faces N splits a base larger than asked fewer times\n"
+    "                      --max-faces N splits a base larger than asked fewer times;\n"
+    "                      --smoothing-sweeps S (default 5, 0: none) evens the sampling\n"
     "  --view V            front (default), side, top or iso\n"
     "  --color C           plain (default), level or error\n"
     "  --error-scale P     error colouring: red at P percent of the diagonal (default 0.2)\n"
@@ -86,6 +87,8 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   in.remeshing.levels = static_cast<int>(args.integer("levels", in.remeshing.levels, 0, 8));
   in.remeshing.featureAngle = args.real("feature-angle", in.remeshing.featureAngle, 0, 180);
   in.remeshing.maxFaces = args.integer("max-faces", in.remeshing.maxFaces, 0, 1LL << 40);
+  in.remeshing.smoothingSweeps =
+      static_cast<int>(args.integer("smoothing-sweeps", in.remeshing.smoothingSweeps, 0, 1000));
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));
 }
@@ -132,10 +135,13 @@ void parseHeadless(const osdmra::cli::Args& args, Options& o) {
 
 Options parseOptions(const std::vector<std::string>& argv) {
   const osdmra::cli::Args args(
-      "", argv,
-      {"budget", "epsilon", "scheme", "rings", "placement", "base-faces", "levels", "feature-angle",
-       "min-component-faces", "max-faces", "view", "color", "error-scale", "layout", "tess",
-       "smooth-level", "screenshot", "size", "bench-slider"},
+      "", argv, {"budget",    "epsilon",          "scheme",
+                 "rings",     "placement",        "base-faces",
+                 "levels",    "feature-angle",    "min-component-faces",
+                 "max-faces", "smoothing-sweeps", "view",
+                 "color",     "error-scale",      "layout",
+                 "tess",      "smooth-level",     "screenshot",
+                 "size",      "bench-slider"},
       {"remesh", "wireframe", "smooth", "json", "no-pane-cache", "help", "h"},
       "osdmra-viewer --help");
   Options o;
