@@ -44,17 +44,6 @@ DistanceOptions distanceOptions(const Args& args) {
   return o;
 }
 
-RemeshOptions remeshOptions(const Args& args) {
-  RemeshOptions o;
-  o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
-  o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
-  o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
-  o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
-  o.smoothingSweeps =
-      static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
-  return o;
-}
-
 InputOptions inputOptions(const Args& args) {
   InputOptions o;
   o.remesh = args.has("remesh");

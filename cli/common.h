@@ -10,6 +10,7 @@
 
 #include "args.h"
 #include "osdmra/pipeline.h"
+#include "remesh_flags.h"
 
 namespace osdmra::cli {
 
@@ -28,7 +29,6 @@ std::set<std::string> flags(std::set<std::string> extra = {});
 
 WaveletOptions waveletOptions(const Args& args);
 DistanceOptions distanceOptions(const Args& args);
-RemeshOptions remeshOptions(const Args& args);
 /// --remesh and its options, with the distance options of the command.
 InputOptions inputOptions(const Args& args);
 /// What a command takes where its options say nothing.

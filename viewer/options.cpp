@@ -4,6 +4,7 @@
 
 #include "args.h"
 #include "osdmra/base/error.h"
+#include "remesh_flags.h"
 
 namespace viewer {
 
@@ -82,13 +83,7 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   o.request.placement = osdmra::parsePlacement(args.get("placement", "surface"));
   osdmra::InputOptions& in = o.request.input;
   in.remesh = args.has("remesh");
-  in.remeshing.baseFaces =
-      static_cast<int>(args.integer("base-faces", in.remeshing.baseFaces, 4, 1 << 24));
-  in.remeshing.levels = static_cast<int>(args.integer("levels", in.remeshing.levels, 0, 8));
-  in.remeshing.featureAngle = args.real("feature-angle", in.remeshing.featureAngle, 0, 180);
-  in.remeshing.maxFaces = args.integer("max-faces", in.remeshing.maxFaces, 0, 1LL << 40);
-  in.remeshing.smoothingSweeps =
-      static_cast<int>(args.integer("smoothing-sweeps", in.remeshing.smoothingSweeps, 0, 1000));
+  in.remeshing = osdmra::cli::remeshOptions(args);
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));
 }

@@ -140,9 +140,9 @@ SmoothingReport smoothParameters(const TriMesh& input, const Connectivity& input
       if (!oneRingIn(input, inputConn, charts, s, x, face, r)) continue;
       Vec2 now;
       if (!charts.place(face, s.params[x], now)) continue;
-      const double bound = std::max(options.anisotropy, worstAround(r, now));
       const Vec2 target = lowerStretchPlace(r, now);
       if (target == now) continue;  // at a minimum of its ring's stretch already
+      const double bound = std::max(options.anisotropy, worstAround(r, now));
       // The whole way, else half of it: kept if nothing folds and the distortion stays
       // within the bound (or, where it was over already, does not rise), in every chart
       // that sees the triangles around.

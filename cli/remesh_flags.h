@@ -1,0 +1,21 @@
+// The remesher's command-line options (--base-faces, --levels, --feature-angle,
+// --max-faces, --smoothing-sweeps), read the same way by the tool and the viewer.
+#pragma once
+
+#include "args.h"
+#include "osdmra/remesh/remesh.h"
+
+namespace osdmra::cli {
+
+inline RemeshOptions remeshOptions(const Args& args) {
+  RemeshOptions o;
+  o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
+  o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
+  o.featureAngle = args.real("feature-angle", o.featureAngle, 0.0, 180.0);
+  o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
+  o.smoothingSweeps =
+      static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
+  return o;
+}
+
+}  // namespace osdmra::cli
