@@ -78,8 +78,10 @@ void FaceGrid::insert(int id, const std::array<int, 3>& t) {
 
 std::size_t FaceGrid::slot(std::uint64_t key) const {
   const std::size_t mask = slotKey_.size() - 1;
-  // Fibonacci hashing spreads the packed coordinates over the table.
-  std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+  // Fibonacci hashing spreads the packed coordinates over the table: the product's top
+  // bits, which depend on all of the key's (its middle bits ignored z, and a column of
+  // cells probed one long run).
+  std::size_t i = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> slotShift_);
   while (slotKey_[i] != kEmpty && slotKey_[i] != key) i = (i + 1) & mask;
   return i;
 }
@@ -89,6 +91,8 @@ void FaceGrid::grow() {
   std::vector<int> heads(keys.size(), -1);
   std::vector<std::array<int, 2>> ranges(keys.size(), {0, 0});
   keys.swap(slotKey_);
+  slotShift_ = 64;
+  for (std::size_t size = slotKey_.size(); size > 1; size /= 2) --slotShift_;
   heads.swap(slotHead_);
   ranges.swap(slotFrozen_);
   for (std::size_t j = 0; j < keys.size(); ++j)

@@ -57,6 +57,7 @@ class FaceGrid {
   // not per cell, as the grid is rebuilt often.
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};  // key() never makes it
   std::vector<std::uint64_t> slotKey_;
+  int slotShift_ = 64;  // 64 - log2(slotKey_.size()): the hash's top bits index a slot
   std::vector<int> slotHead_;
   std::vector<std::array<int, 2>> slotFrozen_;
   std::vector<int> frozen_;

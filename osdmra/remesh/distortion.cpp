@@ -16,8 +16,11 @@ std::array<Vec2, 3> layFlat(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to) {
+  return anisotropyFromFlat(layFlat(from[0], from[1], from[2]), to);
+}
+
+double anisotropyFromFlat(const std::array<Vec2, 3>& src, const std::array<Vec2, 3>& to) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  const std::array<Vec2, 3> src = layFlat(from[0], from[1], from[2]);
   Eigen::Matrix2d S, T;
   S << src[1] - src[0], src[2] - src[0];
   T << to[1] - to[0], to[2] - to[0];
@@ -35,9 +38,9 @@ double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to
 bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid& out) {
   int apart = -1, shared = 0;
   std::array<int, 3> at{};  // f's corners in `from`, -1 for the one apart
+  const std::array<int, 3>& g = from.face;
   for (int i = 0; i < 3; ++i) {
-    at[i] =
-        static_cast<int>(std::find(from.face.begin(), from.face.end(), f[i]) - from.face.begin());
+    at[i] = f[i] == g[0] ? 0 : f[i] == g[1] ? 1 : f[i] == g[2] ? 2 : 3;
     if (at[i] < 3)
       ++shared;
     else
@@ -63,12 +66,19 @@ bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid&
 
 std::vector<Laid> layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
                                   std::size_t needed, std::vector<std::size_t>& index) {
+  std::vector<Laid> laid;
+  layBreadthFirst(V, faces, needed, laid, index);
+  return laid;
+}
+
+void layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
+                     std::size_t needed, std::vector<Laid>& laid, std::vector<std::size_t>& index) {
   const std::array<int, 3>& first = faces[0];
-  std::vector<Laid> laid = {
-      {first, layFlat(V.row(first[0]).transpose(), V.row(first[1]).transpose(),
-                      V.row(first[2]).transpose())}};
-  index = {0};
-  std::vector<char> done(faces.size(), 0);
+  laid.assign(1, {first, layFlat(V.row(first[0]).transpose(), V.row(first[1]).transpose(),
+                                 V.row(first[2]).transpose())});
+  index.assign(1, 0);
+  thread_local std::vector<char> done;
+  done.assign(faces.size(), 0);
   done[0] = 1;
   std::size_t found = 1;
   for (std::size_t head = 0; head < laid.size() && found < needed; ++head)
@@ -80,7 +90,6 @@ std::vector<Laid> layBreadthFirst(const Points& V, const std::vector<std::array<
       index.push_back(q);
       if (q < needed) ++found;
     }
-  return laid;
 }
 
 bool vertexIn(const std::vector<Laid>& laid, int v, Vec2& at) {
@@ -103,6 +112,25 @@ bool inFace(int v, const std::array<int, 3>& f) {
   return std::count(f.begin(), f.end(), v) == 1;
 }
 
+// Storage reused by chartImage() on each thread (the simplification's distortion checks
+// call it about twenty times per input triangle).
+struct ChartScratch {
+  std::vector<std::array<int, 3>> faces, around;
+  std::vector<Laid> laid;
+  std::vector<std::size_t> index;
+};
+ChartScratch& scratch() {
+  thread_local ChartScratch s;
+  return s;
+}
+
+std::array<int, 3> firstFaceAround(const FacesAround& facesAround, int w) {
+  std::vector<std::array<int, 3>>& around = scratch().around;
+  around.clear();
+  facesAround(w, around);
+  return around.front();
+}
+
 // The chart of the general case below when the faces its corners bring (their own,
 // and one around each vertex corner that none of those has) lay in one pass, as it
 // would lay them, in fixed arrays instead of its lists: most triangles, once the faces
@@ -121,7 +149,7 @@ bool imageInCornerFaces(const Points& V, const std::array<Placed, 3>& at,
   for (const Placed& c : at)
     if (c.isVertex && std::none_of(faces.begin(), faces.begin() + n,
                                    [&](const auto& f) { return inFace(c.vertex, f); }))
-      add(facesAround(c.vertex).front());
+      add(firstFaceAround(facesAround, c.vertex));
   // Breadth first from the first face, as layBreadthFirst.
   std::array<Laid, 6> laid;
   std::array<char, 6> done{};
@@ -156,25 +184,31 @@ bool imageInCornerFaces(const Points& V, const std::array<Placed, 3>& at,
 bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAround& facesAround,
                 std::array<Vec2, 3>& image) {
   if (imageInCornerFaces(V, at, facesAround, image)) return true;
-  std::vector<std::array<int, 3>> faces;  // the corners' first, then the ones around
+  ChartScratch& s = scratch();
+  std::vector<std::array<int, 3>>& faces = s.faces;  // the corners' first, then the ones around
+  faces.clear();
   auto add = [&](const std::array<int, 3>& f) {
     if (std::none_of(faces.begin(), faces.end(), [&](const auto& g) { return sameFace(f, g); }))
       faces.push_back(f);
+  };
+  auto addAround = [&](int w) {
+    s.around.clear();
+    facesAround(w, s.around);
+    for (const auto& f : s.around) add(f);
   };
   for (const Placed& c : at)
     if (!c.isVertex) add(c.face);
   for (const Placed& c : at)
     if (c.isVertex && std::none_of(faces.begin(), faces.end(),
                                    [&](const auto& f) { return inFace(c.vertex, f); }))
-      add(facesAround(c.vertex).front());
+      add(firstFaceAround(facesAround, c.vertex));
   const std::size_t required = faces.size();
-  std::vector<Laid> laid;
+  std::vector<Laid>& laid = s.laid;
   auto layFrom = [&] {
-    std::vector<std::size_t> index;
-    laid = layBreadthFirst(V, faces, required, index);
-    return static_cast<std::size_t>(std::count_if(index.begin(), index.end(), [&](std::size_t q) {
-             return q < required;
-           })) == required;
+    layBreadthFirst(V, faces, required, laid, s.index);
+    return static_cast<std::size_t>(std::count_if(s.index.begin(), s.index.end(),
+                                                  [&](std::size_t q) { return q < required; })) ==
+           required;
   };
   if (!layFrom()) {
     int common = -1;
@@ -182,12 +216,11 @@ bool chartImage(const Points& V, const std::array<Placed, 3>& at, const FacesAro
       if (std::all_of(faces.begin(), faces.begin() + required,
                       [&](const auto& f) { return inFace(w, f); }))
         common = w;
-    if (common >= 0)
-      for (const auto& f : facesAround(common)) add(f);
+    if (common >= 0) addAround(common);
     if (common < 0 || !layFrom()) {
       for (std::size_t q = 0; q < required; ++q)
-        for (int w : std::array<int, 3>(faces[q]))  // a copy: add() grows `faces`
-          for (const auto& f : facesAround(w)) add(f);
+        for (int w : std::array<int, 3>(faces[q]))  // a copy: addAround() grows `faces`
+          addAround(w);
       if (!layFrom()) return false;
     }
   }

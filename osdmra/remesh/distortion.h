@@ -19,6 +19,10 @@ namespace osdmra::remeshing {
 /// planar image is then clockwise).
 double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to);
 
+/// The same with `from` already laid flat (layFlat()'s triangle): for a triangle
+/// checked many times, laid once.
+double anisotropyFromFlat(const std::array<Vec2, 3>& fromFlat, const std::array<Vec2, 3>& to);
+
 /// A 3D triangle laid isometrically in the plane: a at the origin, b on the x axis,
 /// c above it.
 std::array<Vec2, 3> layFlat(const Vec3& a, const Vec3& b, const Vec3& c);
@@ -41,6 +45,11 @@ bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid&
 std::vector<Laid> layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
                                   std::size_t needed, std::vector<std::size_t>& index);
 
+/// The same into `laid` (both outputs cleared first): called a million times by the
+/// simplification's distortion checks, it reuses their storage.
+void layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& faces,
+                     std::size_t needed, std::vector<Laid>& laid, std::vector<std::size_t>& index);
+
 /// The point at barycentric coordinates `bary` of a laid face.
 inline Vec2 pointIn(const Laid& l, const std::array<double, 3>& bary) {
   return bary[0] * l.pos[0] + bary[1] * l.pos[1] + bary[2] * l.pos[2];
@@ -58,14 +67,15 @@ struct Placed {
   std::array<double, 3> bary;
 };
 
-/// The faces around a vertex, each as its three vertex ids (counter-clockwise).
-using FacesAround = std::function<std::vector<std::array<int, 3>>(int)>;
+/// The faces around vertex `w`, each as its three vertex ids (counter-clockwise),
+/// appended to `out` (a caller's buffer: no list is allocated per call).
+using FacesAround = std::function<void(int w, std::vector<std::array<int, 3>>& out)>;
 
 /// The corners' images in one chart: the faces holding them laid flat from the first,
 /// each next one hinged to one already laid about the edge they share; where their own
 /// faces do not chain so, through the faces around a vertex they all share, and failing
-/// that, through the faces around every vertex of theirs (`facesAround(w)`: the faces
-/// around vertex w). A corner that is a vertex of none of the other corners' faces
+/// that, through the faces around every vertex of theirs (`facesAround(w, out)`: the
+/// faces around vertex w). A corner that is a vertex of none of the other corners' faces
 /// brings one of its own. A triangle straddling an edge or a vertex of the faces is bent
 /// there in the parameterisation; unfolded, its image is what the grid samples. On a
 /// coarse input a triangle can be wider than a base face, its corners' faces neither

@@ -67,15 +67,19 @@ class Simplifier {
     movedStamp_.assign(n, -1);
     movedIndex_.assign(n, -1);
     checkedStamp_.assign(m.F.rows(), -1);
+    aroundStamp_.assign(n, -1);
+    aroundOf_.resize(n);
     refusedAt_.assign(n, -1);
     refusedStage_.assign(n, -1);
     changedAt_.assign(n, 0);
     markTips(m);
     smallestAngle_.resize(m.F.rows());
+    inputFlat_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
       const auto flat = layFlat(m.V.row(m.F(f, 0)).transpose(), m.V.row(m.F(f, 1)).transpose(),
                                 m.V.row(m.F(f, 2)).transpose());
       smallestAngle_[f] = smallestAngle(flat[0], flat[1], flat[2]) * 180 / kPi;
+      inputFlat_[f] = flat;
     }
   }
 
@@ -152,6 +156,9 @@ class Simplifier {
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
   std::vector<double> smallestAngle_;  // per input face, degrees
+  // Per input face, laid flat once: distortion() measures each against its chart image
+  // in many plans, and the input never moves.
+  std::vector<std::array<Vec2, 3>> inputFlat_;
   // Per input vertex at the tip of a protrusion (markTips): its cone's faces, each as
   // (next ring vertex, the one after, apex angle); empty elsewhere.
   struct Sector {
@@ -160,6 +167,9 @@ class Simplifier {
   };
   std::vector<std::vector<Sector>> tipCone_;
   std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
+  // Per vertex: the plan that last listed the faces around it, and that list.
+  std::vector<int> aroundStamp_;
+  std::vector<std::vector<std::array<int, 3>>> aroundOf_;
   // Refusals remembered (refusedAndUnchanged): per vertex, the number of removals made
   // when it was last refused (-1: never) and the stage then; the number made when a
   // removal was last made within two rings of it.
@@ -550,17 +560,22 @@ double Simplifier::distortion(const Plan& p) {
     if (!removed_[x]) return {true, x, {}, {}};
     return {false, -1, faces_[param_[x].face], param_[x].bary};
   };
-  // The faces around vertex w once the plan is made: the new ones and the others.
-  const FacesAround facesAround = [&](int w) {
-    std::vector<std::array<int, 3>> out;
-    for (int f : vertFaces_[w])
-      if (std::find(p.ring.faces.begin(), p.ring.faces.end(), f) == p.ring.faces.end())
-        out.push_back(faces_[f]);
-    for (std::size_t q = 0; q < p.triangles.size(); ++q) {
-      const std::array<int, 3> f = newFace(static_cast<int>(q));
-      if (std::count(f.begin(), f.end(), w) == 1) out.push_back(f);
+  // The faces around vertex w once the plan is made: the new ones and the others. Listed
+  // once per plan and vertex (the charts of neighbouring triangles ask for the same).
+  const FacesAround facesAround = [&](int w, std::vector<std::array<int, 3>>& out) {
+    std::vector<std::array<int, 3>>& around = aroundOf_[w];
+    if (aroundStamp_[w] != plans_) {
+      aroundStamp_[w] = plans_;
+      around.clear();
+      for (int f : vertFaces_[w])
+        if (std::find(p.ring.faces.begin(), p.ring.faces.end(), f) == p.ring.faces.end())
+          around.push_back(faces_[f]);
+      for (std::size_t q = 0; q < p.triangles.size(); ++q) {
+        const std::array<int, 3> f = newFace(static_cast<int>(q));
+        if (std::count(f.begin(), f.end(), w) == 1) around.push_back(f);
+      }
     }
-    return out;
+    out.insert(out.end(), around.begin(), around.end());
   };
   double worst = 1;
   for (const Plan::Moved& mv : p.moved)
@@ -571,9 +586,7 @@ double Simplifier::distortion(const Plan& p) {
                                         place(inputF_(t, 2))};
       std::array<Vec2, 3> image;
       if (!chartImage(V_, at, facesAround, image)) return std::numeric_limits<double>::infinity();
-      std::array<Vec3, 3> corners;
-      for (int c = 0; c < 3; ++c) corners[c] = V_.row(inputF_(t, c)).transpose();
-      const double a = anisotropy(corners, image);
+      const double a = anisotropyFromFlat(inputFlat_[t], image);
       if (smallestAngle_[t] < limits().sliverAngle && a < std::numeric_limits<double>::infinity())
         continue;
       if (!(a <= limits().anisotropy)) return std::numeric_limits<double>::infinity();

@@ -81,11 +81,9 @@ TEST(Distortion, ChartImageUnfoldsTheFacesHoldingTheCorners) {
     const double h = 0.5 * (1 + std::cos(fold));
     V << 0, 0, 0, 1, 0, 0, h, h, -std::sin(fold) / std::sqrt(2.0), 0, 1, 0, 2, 0, 0;
     const std::array<int, 3> a{0, 1, 3}, b{1, 2, 3}, c{1, 4, 2};
-    const FacesAround around = [&](int w) {
-      std::vector<std::array<int, 3>> out;
+    const FacesAround around = [&](int w, std::vector<std::array<int, 3>>& out) {
       for (const auto& f : {a, b, c})
         if (std::count(f.begin(), f.end(), w) == 1) out.push_back(f);
-      return out;
     };
     // Unfolded, the square is [0,1]^2 laid from face a: 0 at the origin, 1 on +x, 3 on +y.
     auto unfolded = [&](int v) -> Vec2 { return v == 2 ? Vec2(1, 1) : Vec2(V(v, 0), V(v, 1)); };

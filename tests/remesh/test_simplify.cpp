@@ -182,10 +182,8 @@ TEST(Simplify, EveryInputTriangleHasAChartOnACoarseInput) {
   auto face = [&](int f) -> std::array<int, 3> {
     return {s.base.F(f, 0), s.base.F(f, 1), s.base.F(f, 2)};
   };
-  auto facesAround = [&](int w) {
-    std::vector<std::array<int, 3>> out;
+  auto facesAround = [&](int w, std::vector<std::array<int, 3>>& out) {
     for (int h : conn.fan(w)) out.push_back(face(h / 3));
-    return out;
   };
   for (int t = 0; t < input.F.rows(); ++t) {
     std::array<Placed, 3> at;
