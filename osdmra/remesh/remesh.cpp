@@ -140,7 +140,10 @@ Remeshing remesh(const TriMesh& input, const RemeshOptions& options, const Progr
     SmoothingOptions smoothing;
     smoothing.sweeps = options.smoothingSweeps;
     smoothing.anisotropy = kStages[s.stage].anisotropy;
-    smoothParameters(input, walker.connectivity(), charts, pinned, s, smoothing);
+    const SmoothingReport report =
+        smoothParameters(input, walker.connectivity(), charts, pinned, s, smoothing);
+    out.smoothingMoves = report.moves;
+    out.smoothingRefused = report.refused;
   }
   // Steps 2 and 3 through the straightened map, and where that leaves defects through
   // the exact inverse of the removals too; the one with fewer defects left is kept. Each

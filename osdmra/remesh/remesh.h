@@ -84,6 +84,9 @@ struct Remeshing {
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)
   /// that it needed.
   int simplificationRounds = 0, simplificationStage = 0;
+  /// What the smoothing of the parameterisation did (smoothing.h): moves kept and moves
+  /// refused (a fold or too much distortion), over all its sweeps; 0, 0 without it.
+  int smoothingMoves = 0, smoothingRefused = 0;
   /// The map the grid was sampled through (resample.h's GridMap): "straightened", or
   /// "exact" where that one left fewer defects after the clean-up; and the defects
   /// (flipped, zero-area, crossing pairs) each left (-1: not tried, as the

@@ -327,6 +327,11 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
       run("remesh " + path("t3.obj") +
           " --base-faces 100 --levels 4 --smoothing-sweeps 0 --json -o " + path("u.ply"));
   ASSERT_EQ(unsmoothed.status, 0) << unsmoothed.err;
+  // The JSON says what the smoothing did: some moves by default, none without it.
+  EXPECT_EQ(r.out.find("\"smoothing\": {\"moves\": 0,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"smoothing\": {\"moves\": "), std::string::npos) << r.out;
+  EXPECT_NE(unsmoothed.out.find("\"smoothing\": {\"moves\": 0, \"refused\": 0}"), std::string::npos)
+      << unsmoothed.out;
   EXPECT_NE(unsmoothed.out.find("\"grid_map\": {\"used\": \"straightened\", "
                                 "\"straightened_defects\": 0, \"exact_defects\": -1}"),
             std::string::npos)
