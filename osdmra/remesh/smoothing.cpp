@@ -84,15 +84,24 @@ Vec2 lowerStretchPlace(const OneRing& r, const Vec2& u) {
   return u;
 }
 
+// The triangles around the centre of `r` (centre, neighbour k, neighbour k + 1) laid
+// flat: they never move, and every check of the vertex measures them again.
+using FlatRing = std::vector<std::array<Vec2, 3>>;
+void layRingFlat(const OneRing& r, FlatRing& flat) {
+  const std::size_t n = r.at.size();
+  flat.resize(n);
+  for (std::size_t k = 0; k < n; ++k)
+    flat[k] = layFlat(r.centre, r.position[k], r.position[(k + 1) % n]);
+}
+
 // The largest anisotropy of the triangles around the centre placed at `centre`
-// (infinite if one folds).
-double worstAround(const OneRing& r, const Vec2& centre) {
+// (infinite if one folds); `flat`: layRingFlat's.
+double worstAround(const OneRing& r, const FlatRing& flat, const Vec2& centre) {
   const std::size_t n = r.at.size();
   double worst = 1;
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t l = (k + 1) % n;
-    worst = std::max(
-        worst, anisotropy({r.centre, r.position[k], r.position[l]}, {centre, r.at[k], r.at[l]}));
+    worst = std::max(worst, anisotropyFromFlat(flat[k], {centre, r.at[k], r.at[l]}));
   }
   return worst;
 }
@@ -110,15 +119,15 @@ std::vector<int> chartsSeeing(const Connectivity& conn, const Simplification& s,
 // Whether x may go to `to` (a place in face `from`'s chart, there `p`): in every chart
 // that sees its triangles, none folds and their anisotropy stays within `bound`.
 bool acceptable(const TriMesh& input, const Connectivity& conn, const BaseCharts& charts,
-                Simplification& s, int x, const Param& p, double bound) {
+                Simplification& s, int x, const Param& p, double bound, const FlatRing& flat,
+                OneRing& r) {
   const Param old = s.params[x];
   s.params[x] = p;
   bool ok = true;
-  OneRing r;
   for (int f : chartsSeeing(conn, s, x)) {
     Vec2 at;
     ok = oneRingIn(input, conn, charts, s, x, f, r) && charts.place(f, p, at) &&
-         worstAround(r, at) <= bound;
+         worstAround(r, flat, at) <= bound;
     if (!ok) break;
   }
   s.params[x] = old;
@@ -132,7 +141,8 @@ SmoothingReport smoothParameters(const TriMesh& input, const Connectivity& input
                                  Simplification& s, const SmoothingOptions& options) {
   SmoothingReport report;
   const int n = static_cast<int>(input.V.rows());
-  OneRing r;
+  OneRing r, other;                // reused: a ring's lists are allocated once, not per vertex
+  std::vector<FlatRing> flats(n);  // per vertex, laid on its first move
   for (int sweep = 0; sweep < options.sweeps; ++sweep)
     for (int x = 0; x < n; ++x) {
       if (s.baseOf[x] >= 0 || pinned[x] || inputConn.isBoundaryVertex(x)) continue;
@@ -142,7 +152,9 @@ SmoothingReport smoothParameters(const TriMesh& input, const Connectivity& input
       if (!charts.place(face, s.params[x], now)) continue;
       const Vec2 target = lowerStretchPlace(r, now);
       if (target == now) continue;  // at a minimum of its ring's stretch already
-      const double bound = std::max(options.anisotropy, worstAround(r, now));
+      FlatRing& flat = flats[x];
+      if (flat.empty()) layRingFlat(r, flat);
+      const double bound = std::max(options.anisotropy, worstAround(r, flat, now));
       // The whole way, else half of it: kept if nothing folds and the distortion stays
       // within the bound (or, where it was over already, does not rise), in every chart
       // that sees the triangles around.
@@ -150,7 +162,7 @@ SmoothingReport smoothParameters(const TriMesh& input, const Connectivity& input
       for (const double step : {1.0, 0.5}) {
         Param p;
         if (!charts.locate(face, now + step * (target - now), p) ||
-            !acceptable(input, inputConn, charts, s, x, p, bound))
+            !acceptable(input, inputConn, charts, s, x, p, bound, flat, other))
           continue;
         s.params[x] = p;
         moved = true;
