@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace osdmra::remeshing {
@@ -80,11 +81,26 @@ void layBreadthFirst(const Points& V, const std::vector<std::array<int, 3>>& fac
   thread_local std::vector<char> done;
   done.assign(faces.size(), 0);
   done[0] = 1;
+  // Most pairs tried share no edge: a face's vertices as bits (id mod 64) rule those out
+  // at one AND, where its three bits are distinct (else bits 0, and hinge() decides).
+  thread_local std::vector<std::uint64_t> bits;
+  bits.resize(faces.size());
+  for (std::size_t q = 0; q < faces.size(); ++q) {
+    std::uint64_t b = 0;
+    for (int v : faces[q]) b |= std::uint64_t{1} << (static_cast<unsigned>(v) & 63u);
+    const std::uint64_t rest = b & (b - 1), last = rest & (rest - 1);  // 3 bits: last != 0
+    bits[q] = last != 0 ? b : 0;
+  }
+  auto mayShareEdge = [&](std::size_t a, std::size_t b) {
+    const std::uint64_t common = bits[a] & bits[b];
+    return bits[a] == 0 || bits[b] == 0 || (common & (common - 1)) != 0;  // two bits or more
+  };
   std::size_t found = 1;
   for (std::size_t head = 0; head < laid.size() && found < needed; ++head)
     for (std::size_t q = 1; q < faces.size(); ++q) {
       Laid next;
-      if (done[q] || !hinge(V, laid[head], faces[q], next)) continue;
+      if (done[q] || !mayShareEdge(index[head], q) || !hinge(V, laid[head], faces[q], next))
+        continue;
       done[q] = 1;
       laid.push_back(next);
       index.push_back(q);
