@@ -117,3 +117,51 @@ TEST(Distortion, ChartImageUnfoldsTheFacesHoldingTheCorners) {
     EXPECT_NEAR((image[2] - Vec2(1, 1)).norm(), (V.row(4) - V.row(2)).norm(), 1e-12);
   }
 }
+
+// A flat hexagonal fan laid breadth first from one face: every face joins, each at its
+// true place (the fan is flat, so its chart is the plane itself). Laid with vertex ids
+// that collide modulo 64 (the filter ruling out faces that share no edge works on
+// ids mod 64, and must leave such faces to hinge()), the chart is the same.
+TEST(Distortion, LayBreadthFirstLaysAFlatFanWhateverItsVertexIds) {
+  osdmra::Points V(7, 3);
+  V.row(0) << 0, 0, 0;
+  for (int k = 0; k < 6; ++k) V.row(k + 1) << std::cos(k * kPi / 3), std::sin(k * kPi / 3), 0;
+  std::vector<std::array<int, 3>> fan;
+  for (int k = 0; k < 6; ++k) fan.push_back({0, k + 1, (k + 1) % 6 + 1});
+  for (const int stride : {1, 64}) {
+    SCOPED_TRACE(stride);
+    // Vertex i becomes i * stride: with 64, all seven share one bit.
+    osdmra::Points W = osdmra::Points::Zero(6 * stride + 1, 3);
+    std::vector<std::array<int, 3>> faces;
+    for (int q : {3, 0, 5, 1, 4, 2}) {  // shuffled: the first face is not next to the second
+      const auto& f = fan[q];
+      faces.push_back({f[0] * stride, f[1] * stride, f[2] * stride});
+    }
+    for (int i = 0; i < 7; ++i) W.row(i * stride) = V.row(i);
+    std::vector<std::size_t> index;
+    const std::vector<Laid> laid = layBreadthFirst(W, faces, faces.size(), index);
+    ASSERT_EQ(laid.size(), faces.size());
+    // The chart is an isometry of the plane: every laid edge keeps its length, and the
+    // centre lies at the same place in every face.
+    Vec2 centre;
+    ASSERT_TRUE(vertexIn(laid, 0, centre));
+    for (const Laid& l : laid) {
+      EXPECT_GT(cross2(l.pos[1] - l.pos[0], l.pos[2] - l.pos[0]), 0);
+      for (int i = 0; i < 3; ++i) {
+        const int a = l.face[i], b = l.face[(i + 1) % 3];
+        EXPECT_NEAR((l.pos[(i + 1) % 3] - l.pos[i]).norm(), (W.row(a) - W.row(b)).norm(), 1e-12);
+        if (a == 0) {
+          EXPECT_NEAR((l.pos[i] - centre).norm(), 0, 1e-12);
+        }
+      }
+    }
+  }
+}
+
+// Measuring a triangle laid flat once gives what measuring it in 3D gives.
+TEST(Distortion, AnisotropyFromAFlatTriangleIsTheSame) {
+  const std::array<Vec3, 3> t{Vec3(0, 0, 1), Vec3(1, 0.2, 1), Vec3(0.3, 0.9, 1.5)};
+  const std::array<Vec2, 3> image{Vec2(0, 0), Vec2(2, 0.1), Vec2(0.4, 0.7)};
+  EXPECT_EQ(anisotropyFromFlat(layFlat(t[0], t[1], t[2]), image), anisotropy(t, image));
+  EXPECT_GT(anisotropy(t, image), 1);
+}
