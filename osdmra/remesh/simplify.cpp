@@ -112,7 +112,7 @@ class Simplifier {
   bool isFeature(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   bool removable(int v, const Ring& r) const;
   bool hasEdge(int a, int b) const;
-  bool plan(int v, Ring r, Plan& p);
+  bool plan(int v, const Ring& ring, Plan& p);
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
@@ -167,6 +167,7 @@ class Simplifier {
   };
   std::vector<std::vector<Sector>> tipCone_;
   std::vector<int> checkedStamp_;  // per input face: the plan that last checked it
+  mutable std::vector<std::array<int, 3>> ringCorners_;  // ring()'s, kept between calls
   // Per vertex: the plan that last listed the faces around it, and that list.
   std::vector<int> aroundStamp_;
   std::vector<std::vector<std::array<int, 3>>> aroundOf_;
@@ -198,7 +199,8 @@ bool Simplifier::ring(int v, Ring& r) const {
   const std::vector<int>& fs = vertFaces_[v];
   const int d = static_cast<int>(fs.size());
   if (d == 0) return false;
-  std::vector<std::array<int, 3>> corner(d);  // next, prev, face
+  std::vector<std::array<int, 3>>& corner = ringCorners_;  // next, prev, face
+  corner.resize(d);
   for (int k = 0; k < d; ++k) {
     const auto& t = faces_[fs[k]];
     const int i = t[0] == v ? 0 : t[1] == v ? 1 : 2;
@@ -255,8 +257,10 @@ bool Simplifier::hasEdge(int a, int b) const {
 
 // Flattens v's ring, retriangulates it and certifies the result (removal.h); then
 // the points of the old faces are placed in the new ones and the distortion checked.
-bool Simplifier::plan(int v, Ring r, Plan& p) {
+bool Simplifier::plan(int v, const Ring& ring, Plan& p) {
   ++plansMade_;
+  p.ring = ring;  // into the plan's lists, kept from plan to plan
+  Ring& r = p.ring;
   refusal_ = kCorner;
   if (!removable(v, r)) return false;
   refusal_ = kShape;
@@ -278,7 +282,6 @@ bool Simplifier::plan(int v, Ring r, Plan& p) {
       }
     }
   }
-  p.ring = std::move(r);
   std::vector<Vec3> points;
   for (int w : p.ring.verts) points.push_back(V_.row(w).transpose());
   p.flat = flattenRing(V_.row(v).transpose(), points, p.ring.boundary, p.featureAt);
@@ -634,13 +637,14 @@ void Simplifier::commit(int v, const Plan& p) {
 // rim of a thin flap, which have no defect but bend sharply).
 std::vector<Simplifier::Candidate> Simplifier::candidates() const {
   std::vector<Candidate> cands;
+  Ring r;  // its lists and the normals' kept from vertex to vertex
+  std::vector<Vec3> normals;
   for (int v = 0; v < V_.rows(); ++v) {
-    Ring r;
     if (removed_[v] || !ring(v, r) || !removable(v, r)) continue;
     double area = 0, angles = 0, bending = 0, extent = 0;
     const Vec3 pv = V_.row(v);
     const int m = r.numFaces();
-    std::vector<Vec3> normals(m);
+    normals.resize(m);
     for (int k = 0; k < m; ++k) {
       const Vec3 a = V_.row(r.verts[k]) - pv.transpose(),
                  b = V_.row(r.verts[k + 1]) - pv.transpose();
@@ -706,14 +710,14 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
   });
   std::vector<int> stamp(V_.rows(), -1);
   int removedNow = 0;
+  Ring r;  // the ring and the plan keep their lists from candidate to candidate
+  Plan p;
   for (const Candidate& c : cands) {
     if (aliveFaces_ <= target) break;
     if (stamp[c.v] == round) continue;
     if (refusedAndUnchanged(c.v)) continue;
-    Ring r;
-    Plan p;
     const bool disc = ring(c.v, r);
-    if (!disc || !plan(c.v, std::move(r), p)) {
+    if (!disc || !plan(c.v, r, p)) {
       // A crossing depends on faces near in space, not in the mesh: planned again.
       if (!disc || refusal_ != kCrossing) {
         refusedAt_[c.v] = removalsMade_;
@@ -760,7 +764,7 @@ std::string Simplifier::whyKept() {
     Plan p;
     if (!ring(v, r)) {
       ++count[kTopology];
-    } else if (plan(v, std::move(r), p)) {
+    } else if (plan(v, r, p)) {
       ++count[kShape];  // unreachable once the stages are spent; counted, not hidden
     } else {
       ++count[refusal_];
