@@ -112,7 +112,7 @@ class Simplifier {
   bool isFeature(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   bool removable(int v, const Ring& r) const;
   bool hasEdge(int a, int b) const;
-  bool plan(int v, const Ring& ring, Plan& p);
+  bool plan(int v, const Ring& around, Plan& p);
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
@@ -257,9 +257,9 @@ bool Simplifier::hasEdge(int a, int b) const {
 
 // Flattens v's ring, retriangulates it and certifies the result (removal.h); then
 // the points of the old faces are placed in the new ones and the distortion checked.
-bool Simplifier::plan(int v, const Ring& ring, Plan& p) {
+bool Simplifier::plan(int v, const Ring& around, Plan& p) {
   ++plansMade_;
-  p.ring = ring;  // into the plan's lists, kept from plan to plan
+  p.ring = around;  // into the plan's lists, kept from plan to plan
   Ring& r = p.ring;
   refusal_ = kCorner;
   if (!removable(v, r)) return false;
