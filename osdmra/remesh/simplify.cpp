@@ -704,28 +704,32 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
     return kAreaWeight * c.area / std::max(maxArea, 1e-300) +
            (1 - kAreaWeight) * c.curvature / std::max(maxCurv, 1e-300);
   };
-  std::sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
-    const double pa = priority(a), pb = priority(b);
-    return pa != pb ? pa < pb : a.v < b.v;
+  // Each priority computed once, not at every comparison of the sort.
+  std::vector<std::pair<double, int>> order;
+  order.reserve(cands.size());
+  for (const Candidate& c : cands) order.emplace_back(priority(c), c.v);
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
   });
   std::vector<int> stamp(V_.rows(), -1);
   int removedNow = 0;
   Ring r;  // the ring and the plan keep their lists from candidate to candidate
   Plan p;
-  for (const Candidate& c : cands) {
+  for (const auto& entry : order) {
+    const int v = entry.second;
     if (aliveFaces_ <= target) break;
-    if (stamp[c.v] == round) continue;
-    if (refusedAndUnchanged(c.v)) continue;
-    const bool disc = ring(c.v, r);
-    if (!disc || !plan(c.v, r, p)) {
+    if (stamp[v] == round) continue;
+    if (refusedAndUnchanged(v)) continue;
+    const bool disc = ring(v, r);
+    if (!disc || !plan(v, r, p)) {
       // A crossing depends on faces near in space, not in the mesh: planned again.
       if (!disc || refusal_ != kCrossing) {
-        refusedAt_[c.v] = removalsMade_;
-        refusedStage_[c.v] = static_cast<int>(stage_);
+        refusedAt_[v] = removalsMade_;
+        refusedStage_[v] = static_cast<int>(stage_);
       }
       continue;
     }
-    commit(c.v, p);
+    commit(v, p);
     markChanged(p.ring);
     ++removedNow;
     for (int w : p.ring.verts) stamp[w] = round;
