@@ -43,9 +43,17 @@ struct CodecOptions {
   /// the stream earlier.
   double precision = 1e-5;
   /// Coefficients of level j are weighted levelGain^(J-1-j) before quantisation, so a
-  /// coarse coefficient, which moves a larger region, is coded more precisely. 2 is
-  /// the L2 norm ratio of scaling functions one level apart (support area 1/4).
-  double levelGain = 2.0;
+  /// coarse coefficient, which moves a larger region, is coded more precisely. 2 would
+  /// be the L2 norm ratio of scaling functions one level apart (support area 1/4); by
+  /// sampled surface distance 1.5 codes better from 1.5 bits per vertex up (bench/
+  /// osdmra_codec_rd --level-gain, 2026-11-28, dB of 1.5 against 2 at 0.75 / 1.5 / 2.5 /
+  /// 3.5 / 5 bits per vertex on J = 5 remeshes over 300 faces: spot -0.7 / +1.8 / +0.3 /
+  /// +1.2 / +0.8, the rocker arm -0.8 / +0.3 / +1.5 / +1.1 / +0.5, the elephant -0.8 /
+  /// +1.4 / +1.8 / +1.2 / +0.3; the bunny and armadillo +1.3 and +1.2 at 1.5, +1.2 and
+  /// +0.2 at 2.5; the head with Loop -0.1 / 0.0 at 0.75 / 1.5, +0.3 / +0.3 / +0.2 at 3.5
+  /// / 7 / 10), where the streams reach 85-95 dB; 0.7-0.8 dB worse at 0.75. 1.25 and
+  /// 2.5 were worse than both.
+  double levelGain = 1.5;
   /// Weight of the two tangential components relative to the normal one (0, 1]:
   /// below 1 they are quantised more coarsely, since sliding along the surface
   /// changes its shape less than lifting it off. Measured on the bundled head by
