@@ -57,7 +57,8 @@ class Resampler {
         s_(s),
         base_(s.base),
         baseConn_(s.base.F, static_cast<int>(s.base.V.rows())),
-        charts_(charts) {
+        charts_(charts),
+        wider_(s.base, 2) {
     inputOf_.resize(base_.V.rows());
     for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
@@ -85,7 +86,9 @@ class Resampler {
   bool featureEdge(int p, int q) const {
     return s_.featureEdges.count(edgeKey(inputOf_[p], inputOf_[q])) != 0;
   }
-  bool imageIn(int f, int t, std::array<Vec2, 3>& image) const;
+  bool imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const;
+  bool walkTo(const BaseCharts& charts, int f, const std::array<double, 3>& bary, int start,
+              SurfacePoint& found) const;
   SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
   int newPoint(const Job& job, bool isFree, long long edge);
   void place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const;
@@ -102,6 +105,7 @@ class Resampler {
   std::vector<int> inputOf_;  // base vertex -> input vertex
   std::vector<std::vector<int>> alongFeature_, alongBoundary_;
   const BaseCharts& charts_;
+  const BaseCharts wider_;  // over two rings of faces, where charts_ lacks a corner
   // The output under construction.
   int N_ = 1;
   std::unordered_map<std::uint64_t, int> edgePoints_;
@@ -112,40 +116,58 @@ class Resampler {
 };
 
 // Input triangle t's corners, at their places on the base, in base face f's chart.
-bool Resampler::imageIn(int f, int t, std::array<Vec2, 3>& image) const {
+bool Resampler::imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const {
   for (int k = 0; k < 3; ++k)
-    if (!placeInputVertex(charts_, s_, f, input_.F(t, k), image[k])) return false;
+    if (!placeInputVertex(charts, s_, f, input_.F(t, k), image[k])) return false;
   return true;
 }
 
-// The point at `bary` of base face f through the parameterisation made straight on
-// every input triangle: the triangle whose corners' parameters hold it in f's chart,
-// found by walking from `from` (the exact inverse's answer, close by), and the same
-// barycentric coordinates in it. Its corners' images are what the simplification's
-// distortion bound checks, so on each input triangle this map is affine and as little
-// distorted as that bound allows: a grid triangle inside one input triangle keeps its
-// orientation. `from` is kept where the walk finds no such triangle.
-SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
-                                 SurfacePoint from) const {
-  const Vec2 at = pointIn(charts_.own(f), bary);
-  int t = from.triangle, previous = -1;
+// The input triangle whose corners' parameters hold the point at `bary` of base face f
+// in f's chart of `charts`, found by walking from triangle `start`, and the same
+// barycentric coordinates in it; false where the walk meets a triangle with a corner
+// beyond the chart or turned over in it, or does not arrive.
+bool Resampler::walkTo(const BaseCharts& charts, int f, const std::array<double, 3>& bary,
+                       int start, SurfacePoint& found) const {
+  const Vec2 at = pointIn(charts.own(f), bary);
+  int t = start, previous = -1;
   for (int step = 0; step < 16; ++step) {
     std::array<Vec2, 3> image;
-    if (!imageIn(f, t, image)) return from;
+    if (!imageIn(charts, f, t, image)) return false;
     const double area = cross2(image[1] - image[0], image[2] - image[0]);
-    if (!(area > 0)) return from;
+    if (!(area > 0)) return false;
     std::array<double, 3> l;
     for (int k = 0; k < 3; ++k)
       l[k] = cross2(image[(k + 2) % 3] - image[(k + 1) % 3], at - image[(k + 1) % 3]) / area;
     const int worst = static_cast<int>(std::min_element(l.begin(), l.end()) - l.begin());
-    if (l[worst] >= -1e-12) return {t, clampedBarycentric(l)};
+    if (l[worst] >= -1e-12) {
+      found = {t, clampedBarycentric(l)};
+      return true;
+    }
     // Across the edge facing the most negative coordinate.
     const int h = 3 * t + (worst + 1) % 3;
     const int twin = inputConn_.twin(h);
-    if (twin < 0 || twin / 3 == previous) return from;
+    if (twin < 0 || twin / 3 == previous) return false;
     previous = t;
     t = twin / 3;
   }
+  return false;
+}
+
+// The point at `bary` of base face f through the parameterisation made straight on
+// every input triangle (walkTo, from `from`: the exact inverse's answer, close by). Its
+// corners' images are what the simplification's distortion bound checks, so on each
+// input triangle this map is affine and as little distorted as that bound allows: a
+// grid triangle inside one input triangle keeps its orientation. Where a triangle on
+// the way has a corner beyond the faces around f's corners (a fan of slivers into a
+// removed vertex: a cylinder's cap), the walk is made again in a chart of two rings, so
+// that neighbouring grid points do not go through different maps (they folded the
+// cap); `from` is kept where neither arrives.
+SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
+                                 SurfacePoint from) const {
+  SurfacePoint found;
+  if (walkTo(charts_, f, bary, from.triangle, found) ||
+      walkTo(wider_, f, bary, from.triangle, found))
+    return found;
   return from;
 }
 

@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 
+#include "osdmra/geometry/normals.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/cleanup.h"
 #include "osdmra/remesh/features.h"
 #include "osdmra/remesh/resample.h"
 #include "osdmra/remesh/simplify.h"
 #include "osdmra/subdivision/shapes.h"
+#include "support.h"
 
 using namespace osdmra;
 using namespace osdmra::remeshing;
@@ -121,4 +124,46 @@ TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
   cleanUp(clean, sphere.input, sphere.grid.free, sphere.grid.line, at, onSphere, {},
           [&] { ++lastResorts; });
   EXPECT_EQ(lastResorts, 1);
+}
+
+// A grid point on a sharp edge lies in the triangles of both sides. A grid triangle
+// flat on one side with its three corners on the edges (at a cube's corner, where a
+// base face has two edges on feature lines) is not flipped because its corners were
+// sampled in the other sides' triangles, which it faces at a right angle: a cylinder's
+// cap was repaired for nothing so.
+TEST(Cleanup, ACornerOnASharpEdgeBelongsToBothSides) {
+  const TriMesh cube = test::unitCube();
+  const SurfaceWalker walker(cube, {});
+  // Where p lies in the cube's triangle facing `side`.
+  auto inSide = [&](const Vec3& p, const Vec3& side) {
+    for (int t = 0; t < cube.F.rows(); ++t) {
+      if (faceNormal(cube, t).normalized().dot(side) < 0.999) continue;
+      const Vec3 a = cube.V.row(cube.F(t, 0)), b = cube.V.row(cube.F(t, 1)),
+                 c = cube.V.row(cube.F(t, 2));
+      const Vec3 n = (b - a).cross(c - a);
+      const std::array<double, 3> bary = {(c - b).cross(p - b).dot(n) / n.squaredNorm(),
+                                          (a - c).cross(p - c).dot(n) / n.squaredNorm(),
+                                          (b - a).cross(p - a).dot(n) / n.squaredNorm()};
+      if (*std::min_element(bary.begin(), bary.end()) >= 0) return SurfacePoint{t, bary};
+    }
+    return SurfacePoint{};
+  };
+  // On the top (z = 1) at its corner (0, 0, 1), facing up; each corner sampled in a side.
+  Remeshing out;
+  out.mesh.V.resize(3, 3);
+  out.mesh.V << 0, 0, 1, 0.5, 0, 1, 0, 0.5, 1;
+  out.mesh.F.resize(1, 3);
+  out.mesh.F << 0, 1, 2;
+  out.base = out.mesh;
+  std::vector<SurfacePoint> where = {inSide(out.mesh.V.row(0), Vec3(-1, 0, 0)),
+                                     inSide(out.mesh.V.row(1), Vec3(0, -1, 0)),
+                                     inSide(out.mesh.V.row(2), Vec3(-1, 0, 0))};
+  for (const SurfacePoint& w : where) ASSERT_GE(w.triangle, 0);
+  cleanUp(out, cube, std::vector<char>(3, 0), std::vector<long long>(3, -1), where, walker);
+  EXPECT_EQ(out.cleanupDefectsBefore, 0);
+  EXPECT_EQ(out.flippedTriangles, 0);
+  // Facing down there, it is flipped whichever side's triangles hold its corners.
+  out.mesh.F << 0, 2, 1;
+  cleanUp(out, cube, std::vector<char>(3, 0), std::vector<long long>(3, -1), where, walker);
+  EXPECT_EQ(out.cleanupDefectsBefore, 1);
 }
