@@ -12,6 +12,7 @@
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
+#include "osdmra/mesh/spatial_order.h"
 
 namespace osdmra {
 namespace {
@@ -130,50 +131,15 @@ double unit(std::mt19937_64& rng) {
   return static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
-/// Spreads the low 21 bits of x so that bit i lands on bit 3 i.
-std::uint64_t spreadBits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
-}
-
-/// The rows of `points` in Morton (Z-curve) order of their positions in their
-/// bounding box, ties by row: consecutive queries then walk mostly the same tree
-/// nodes, which are in cache. On a 500k-triangle mesh this makes a query about 2.5x
-/// faster than in random sample order, where every level is a cache miss.
-std::vector<Eigen::Index> mortonOrder(const Points& points) {
-  const Eigen::Index n = points.rows();
-  std::vector<std::pair<std::uint64_t, Eigen::Index>> keyed(static_cast<std::size_t>(n));
-  const Eigen::RowVector3d lo = points.colwise().minCoeff(), hi = points.colwise().maxCoeff();
-  Eigen::RowVector3d scale = Eigen::RowVector3d::Zero();
-  for (int k = 0; k < 3; ++k)
-    if (hi[k] > lo[k]) scale[k] = double((1 << 21) - 1) / (hi[k] - lo[k]);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    std::uint64_t code = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double q = std::clamp((points(i, k) - lo[k]) * scale[k], 0.0, double((1 << 21) - 1));
-      code |= spreadBits(static_cast<std::uint64_t>(q)) << k;
-    }
-    keyed[i] = {code, i};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) order[i] = keyed[i].second;
-  return order;
-}
-
 /// Sums of one direction of surfaceDistance().
 struct Directed {
   double sumSq = 0.0, sum = 0.0, max = 0.0;
   Eigen::Index count = 0;
 };
 
-/// Queries in Morton order for speed, sums in sample order: the results do not
-/// depend on the query order.
+/// Queries in Morton order for speed (consecutive queries walk mostly the same tree
+/// nodes, which are in cache: on a 500k-triangle mesh about 2.5x faster than in random
+/// sample order), sums in sample order: the results do not depend on the query order.
 Directed measure(const Points& samples, const TriangleBvh& target) {
   const Eigen::Index n = samples.rows();
   std::vector<double> distance(static_cast<std::size_t>(n));

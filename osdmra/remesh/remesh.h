@@ -119,7 +119,9 @@ int levelsWithin(long long baseFaces, int maxLevels, long long maxFaces);
 
 /// Remeshes a valid mesh (validate(): manifold, oriented, no unreferenced vertex).
 /// Throws Error when the mesh cannot be simplified to any base at all (fewer than
-/// 4 faces, say) or when options are out of range.
+/// 4 faces, say) or when options are out of range. The result depends on the surface,
+/// not on how its vertices and faces are numbered (inSpatialOrder(); but for vertices
+/// at one position, taken in their order).
 Remeshing remesh(const TriMesh& input, const RemeshOptions& options = {},
                  const Progress& progress = {});
 
