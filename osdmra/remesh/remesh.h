@@ -2,6 +2,8 @@
 // the spirit of MAPS (Lee, Sweldens, Schroder, Cowsar and Dobkin 1998). The driver,
 // remesh(), reads as the algorithm; each stage has its own file and tests:
 //
+// 0. The input renumbered along space (mesh/spatial_order.h): faster, and the result
+//    the same for every numbering of the same surface.
 // 1. Features (features.h): feature lines, corners of lines and boundaries, folds.
 // 2. Simplification with a parameterisation (simplify.h): vertices removed in rounds
 //    of independent sets, each removal's one-ring flattened and retriangulated so that
