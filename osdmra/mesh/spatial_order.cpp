@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <tuple>
 #include <utility>
 
 namespace osdmra {
@@ -23,7 +24,17 @@ std::uint64_t spreadBits(std::uint64_t x) {
 
 std::vector<Eigen::Index> mortonOrder(const Points& points) {
   const Eigen::Index n = points.rows();
-  std::vector<std::pair<std::uint64_t, Eigen::Index>> keyed(static_cast<std::size_t>(n));
+  // Ties of the curve (positions in one cell of the grid) by the coordinates themselves,
+  // then by row: the order depends on the positions alone wherever they differ.
+  struct Keyed {
+    std::uint64_t code;
+    std::array<double, 3> at;
+    Eigen::Index row;
+    bool operator<(const Keyed& o) const {
+      return std::tie(code, at, row) < std::tie(o.code, o.at, o.row);
+    }
+  };
+  std::vector<Keyed> keyed(static_cast<std::size_t>(n));
   if (n == 0) return {};
   const Eigen::RowVector3d lo = points.colwise().minCoeff(), hi = points.colwise().maxCoeff();
   Eigen::RowVector3d scale = Eigen::RowVector3d::Zero();
@@ -35,11 +46,11 @@ std::vector<Eigen::Index> mortonOrder(const Points& points) {
       const double q = std::clamp((points(i, k) - lo[k]) * scale[k], 0.0, double((1 << 21) - 1));
       code |= spreadBits(static_cast<std::uint64_t>(q)) << k;
     }
-    keyed[i] = {code, i};
+    keyed[i] = {code, {points(i, 0), points(i, 1), points(i, 2)}, i};
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i) order[i] = keyed[i].second;
+  for (Eigen::Index i = 0; i < n; ++i) order[i] = keyed[i].row;
   return order;
 }
 

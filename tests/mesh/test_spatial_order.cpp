@@ -43,6 +43,24 @@ TEST(SpatialOrder, MortonOrderIsAPermutationThatFollowsTheZCurve) {
   EXPECT_TRUE(mortonOrder(Points(0, 3)).empty());
 }
 
+TEST(SpatialOrder, PointsInOneCellAreOrderedByTheirCoordinates) {
+  // The second and third lie in the grid's first cell with the first: ordered by x, in
+  // whichever rows they come.
+  Points p(4, 3);
+  p << 1e-9, 0, 0,  //
+      1, 1, 1,      //
+      0, 0, 0,      //
+      2e-9, 0, 0;
+  Points q = p.colwise().reverse();
+  auto positions = [](const Points& points) {
+    std::vector<double> x;
+    for (Eigen::Index i : mortonOrder(points)) x.push_back(points(i, 0));
+    return x;
+  };
+  EXPECT_EQ(positions(p), (std::vector<double>{0, 1e-9, 2e-9, 1}));
+  EXPECT_EQ(positions(q), positions(p));
+}
+
 TEST(SpatialOrder, KeepsTheSurfaceAndIgnoresTheNumbering) {
   const TriMesh m = subdivide(shapes::torus(), 2, Scheme::Loop, 0.01, 3);
   const TriMesh ordered = inSpatialOrder(m);
