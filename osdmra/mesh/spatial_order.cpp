@@ -4,7 +4,6 @@
 #include <array>
 #include <cstdint>
 #include <tuple>
-#include <utility>
 
 namespace osdmra {
 namespace {
@@ -24,6 +23,7 @@ std::uint64_t spreadBits(std::uint64_t x) {
 
 std::vector<Eigen::Index> mortonOrder(const Points& points) {
   const Eigen::Index n = points.rows();
+  if (n == 0) return {};
   // Ties of the curve (positions in one cell of the grid) by the coordinates themselves,
   // then by row: the order depends on the positions alone wherever they differ.
   struct Keyed {
@@ -35,7 +35,6 @@ std::vector<Eigen::Index> mortonOrder(const Points& points) {
     }
   };
   std::vector<Keyed> keyed(static_cast<std::size_t>(n));
-  if (n == 0) return {};
   const Eigen::RowVector3d lo = points.colwise().minCoeff(), hi = points.colwise().maxCoeff();
   Eigen::RowVector3d scale = Eigen::RowVector3d::Zero();
   for (int k = 0; k < 3; ++k)

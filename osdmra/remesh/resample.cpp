@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <mutex>
+#include <optional>
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
@@ -57,8 +59,7 @@ class Resampler {
         s_(s),
         base_(s.base),
         baseConn_(s.base.F, static_cast<int>(s.base.V.rows())),
-        charts_(charts),
-        wider_(s.base, 2) {
+        charts_(charts) {
     inputOf_.resize(base_.V.rows());
     for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
@@ -105,7 +106,15 @@ class Resampler {
   std::vector<int> inputOf_;  // base vertex -> input vertex
   std::vector<std::vector<int>> alongFeature_, alongBoundary_;
   const BaseCharts& charts_;
-  const BaseCharts wider_;  // over two rings of faces, where charts_ lacks a corner
+  // Charts over two rings of faces, where charts_ lacks a corner: made on first need (most
+  // scans never need them; 0.3 s for a base of 20,000 faces), by whichever thread first
+  // places such a point.
+  const BaseCharts& wider() const {
+    std::call_once(widerMade_, [this] { wider_.emplace(base_, 2); });
+    return *wider_;
+  }
+  mutable std::once_flag widerMade_;
+  mutable std::optional<BaseCharts> wider_;
   // The output under construction.
   int N_ = 1;
   std::unordered_map<std::uint64_t, int> edgePoints_;
@@ -166,7 +175,7 @@ SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
                                  SurfacePoint from) const {
   SurfacePoint found;
   if (walkTo(charts_, f, bary, from.triangle, found) ||
-      walkTo(wider_, f, bary, from.triangle, found))
+      walkTo(wider(), f, bary, from.triangle, found))
     return found;
   return from;
 }
