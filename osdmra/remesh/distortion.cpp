@@ -1,6 +1,5 @@
 #include "osdmra/remesh/distortion.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -21,19 +20,25 @@ double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to
 }
 
 double anisotropyFromFlat(const std::array<Vec2, 3>& src, const std::array<Vec2, 3>& to) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  Eigen::Matrix2d S, T;
-  S << src[1] - src[0], src[2] - src[0];
-  T << to[1] - to[0], to[2] - to[0];
-  const double detS = S.determinant(), detT = T.determinant();
-  if (!(detS > 0) || !(detT > 0)) return kInf;
-  // J = T S^-1; its singular values from the 2x2 closed form.
-  const Eigen::Matrix2d J = T * S.inverse();
-  const double frob2 = J.squaredNorm(), det = std::abs(J.determinant());
-  const double disc = std::sqrt(std::max(0.0, frob2 * frob2 - 4 * det * det));
-  const double s1 = std::sqrt(0.5 * (frob2 + disc));
-  const double s2 = det / s1;  // not sqrt(frob2 - disc): that cancels when s1 >> s2
-  return s2 > 0 ? s1 / s2 : kInf;
+  return anisotropyFromSum(anisotropySum(src, to));
+}
+
+// With S and T the edges from corner 0 of `src` and `to`, the map is J = T S^-1, whose
+// squared singular values s1^2, s2^2 have the sum |J|^2 and the product det(J)^2; so
+// s1 / s2 + s2 / s1 = |J|^2 / det(J) = |T adj(S)|^2 / (det(S) det(T)).
+double anisotropySum(const std::array<Vec2, 3>& src, const std::array<Vec2, 3>& to) {
+  const Vec2 s0 = src[1] - src[0], s1 = src[2] - src[0];
+  const Vec2 t0 = to[1] - to[0], t1 = to[2] - to[0];
+  const double detS = s0.x() * s1.y() - s0.y() * s1.x(), detT = t0.x() * t1.y() - t0.y() * t1.x();
+  if (!(detS > 0) || !(detT > 0)) return std::numeric_limits<double>::infinity();
+  const Vec2 c0 = s1.y() * t0 - s0.y() * t1, c1 = s0.x() * t1 - s1.x() * t0;  // T adj(S)
+  const double sum = (c0.squaredNorm() + c1.squaredNorm()) / (detS * detT);
+  return sum > 0 ? sum : std::numeric_limits<double>::infinity();
+}
+
+double anisotropyFromSum(double sum) {
+  // The larger root of k^2 - sum k + 1 = 0; no cancellation, as both terms are positive.
+  return 0.5 * (sum + std::sqrt(std::max(0.0, sum * sum - 4)));
 }
 
 bool hinge(const Points& V, const Laid& from, const std::array<int, 3>& f, Laid& out) {

@@ -23,6 +23,15 @@ double anisotropy(const std::array<Vec3, 3>& from, const std::array<Vec2, 3>& to
 /// checked many times, laid once.
 double anisotropyFromFlat(const std::array<Vec2, 3>& fromFlat, const std::array<Vec2, 3>& to);
 
+/// k + 1/k for that anisotropy k (the map's squared Frobenius norm over its
+/// determinant): it grows with k and needs no square root, so the worst of many
+/// triangles is found by comparing these and converted once (anisotropyFromSum).
+/// +infinity where anisotropyFromFlat is.
+double anisotropySum(const std::array<Vec2, 3>& fromFlat, const std::array<Vec2, 3>& to);
+
+/// The anisotropy k >= 1 whose k + 1/k is `sum` (>= 2).
+double anisotropyFromSum(double sum);
+
 /// A 3D triangle laid isometrically in the plane: a at the origin, b on the x axis,
 /// c above it.
 std::array<Vec2, 3> layFlat(const Vec3& a, const Vec3& b, const Vec3& c);
