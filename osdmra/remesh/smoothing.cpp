@@ -81,29 +81,20 @@ double stretch(const OneRing& r, const std::vector<StretchTerm>& terms, const Ve
   return e;
 }
 
-// The centre moved down the stretch's gradient, a few steps: each the longest of a
-// quarter, an eighth, ... of the distance to the nearest neighbour that lowers the
-// stretch (a backtracking line search). A single step left the stretch of a squeezed
-// region to spread one ring per sweep; the steps are cheap (the checks of the place
-// reached are not, and are made once). The centre itself where no step lowers it.
-Vec2 lowerStretchPlace(const OneRing& r, const std::vector<StretchTerm>& terms, const Vec2& from) {
-  constexpr int kSteps = 1;
-  Vec2 u = from;
-  for (int step = 0; step < kSteps; ++step) {
-    Vec2 g;
-    const double e = stretch(r, terms, u, &g);
-    if (!std::isfinite(e) || !(g.norm() > 0)) break;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Vec2& a : r.at) nearest = std::min(nearest, (a - u).norm());
-    const Vec2 down = -g / g.norm();
-    bool lowered = false;
-    for (double t = 0.25 * nearest; t > 1e-3 * nearest && !lowered; t *= 0.5)
-      if (stretch(r, terms, u + t * down) < e) {
-        u += t * down;
-        lowered = true;
-      }
-    if (!lowered) break;
-  }
+// The centre moved down the stretch's gradient by the longest of a quarter, an eighth,
+// ... of its distance to the nearest neighbour that lowers the stretch (a backtracking
+// line search); the centre itself where none does. One step per visit: four (each
+// vertex brought near its ring's minimum before the next) left the corpus's scans over
+// 150 faces further from the input (the lion at J = 5 0.54% -> 0.61% Hausdorff).
+Vec2 lowerStretchPlace(const OneRing& r, const std::vector<StretchTerm>& terms, const Vec2& u) {
+  Vec2 g;
+  const double e = stretch(r, terms, u, &g);
+  if (!std::isfinite(e) || !(g.norm() > 0)) return u;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Vec2& a : r.at) nearest = std::min(nearest, (a - u).norm());
+  const Vec2 down = -g / g.norm();
+  for (double t = 0.25 * nearest; t > 1e-3 * nearest; t *= 0.5)
+    if (stretch(r, terms, u + t * down) < e) return u + t * down;
   return u;
 }
 
