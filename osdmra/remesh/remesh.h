@@ -55,10 +55,13 @@ struct RemeshOptions {
   /// Sweeps of the parameterisation's smoothing (smoothing.h: each input vertex's place
   /// moved to lower the stretch of the map from the base to the input, so that a
   /// uniform grid samples the surface evenly) before the resampling; 0 turns it off.
-  /// On the corpus of docs/REMESH.md, 5 sweeps brought the bunny over 150 faces at
-  /// J = 5 from 0.547% to 0.457% of its diagonal with no run gaining a defect; 3 left
-  /// a fold on the decimated knight. About a tenth of remesh()'s time on dense scans.
-  int smoothingSweeps = 5;
+  /// Each sweep moves a place by at most a quarter of its distance to its nearest
+  /// neighbour, so a squeezed region spreads out over several: on the corpus of
+  /// docs/REMESH.md, 10 sweeps (5 until 2026-11-28) brought the J = 5 runs over 150
+  /// faces of the lion, the bunny and armadillo within 0.5% of their diagonals
+  /// (0.541 / 0.692 / 0.534% -> 0.409 / 0.481 / 0.474%) with no run gaining a defect; 20
+  /// gained little more. About a twentieth of remesh()'s time on dense scans.
+  int smoothingSweeps = 10;
   /// Refuse every removal of the simplification whose new faces would cross a face of
   /// the shrinking mesh that the faces they replace did not cross, so that the base
   /// crosses itself no more than the input does: where the input crosses itself, a

@@ -23,7 +23,7 @@ namespace osdmra::remeshing {
 
 struct SmoothingOptions {
   /// Sweeps over the free vertices (Gauss-Seidel), one descent step per vertex each.
-  int sweeps = 5;
+  int sweeps = 10;
   /// Largest anisotropy (distortion.h) a move may leave around the vertex; a vertex
   /// already above it may move only if that lowers its worst.
   double anisotropy = 4;
