@@ -1,6 +1,5 @@
 #include "osdmra/remesh/smoothing.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -1,9 +1,11 @@
 // The distortion measure of the simplification (distortion.h): closed forms.
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "osdmra/remesh/distortion.h"
@@ -164,4 +166,39 @@ TEST(Distortion, AnisotropyFromAFlatTriangleIsTheSame) {
   const std::array<Vec2, 3> image{Vec2(0, 0), Vec2(2, 0.1), Vec2(0.4, 0.7)};
   EXPECT_EQ(anisotropyFromFlat(layFlat(t[0], t[1], t[2]), image), anisotropy(t, image));
   EXPECT_GT(anisotropy(t, image), 1);
+}
+
+// anisotropySum is k + 1/k for the ratio k of the singular values of the affine map
+// between the triangles (computed here by an SVD), and anisotropyFromSum gives k back,
+// on maps from nearly conformal to stretched 10^4 times; orientation reversed: infinite.
+TEST(Distortion, AnisotropySumIsTheSingularValueRatioPlusItsInverse) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<Vec2, 3> from, to;
+    for (auto* t : {&from, &to})
+      for (Vec2& p : *t) p = Vec2(coordinate(random), coordinate(random));
+    const double stretch = std::pow(10.0, 4.0 * trial / 200);  // up to 10^4 along x
+    for (Vec2& p : to) p.x() *= stretch;
+    auto edges = [](const std::array<Vec2, 3>& t) {
+      Eigen::Matrix2d m;
+      m << t[1] - t[0], t[2] - t[0];
+      return m;
+    };
+    // Both counter-clockwise (a random map between random triangles either way).
+    if (edges(from).determinant() < 0) std::swap(from[1], from[2]);
+    if (edges(to).determinant() < 0) std::swap(to[1], to[2]);
+    const Eigen::Matrix2d S = edges(from), T = edges(to);
+    if (S.determinant() < 1e-3 || T.determinant() < 1e-3 * stretch) continue;
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(T * S.inverse());
+    const double k = svd.singularValues()[0] / svd.singularValues()[1];
+    EXPECT_NEAR(anisotropySum(from, to), k + 1 / k, 1e-9 * (k + 1 / k)) << "trial " << trial;
+    EXPECT_NEAR(anisotropyFromSum(anisotropySum(from, to)), k, 1e-9 * k) << "trial " << trial;
+    EXPECT_NEAR(anisotropyFromFlat(from, to), k, 1e-9 * k) << "trial " << trial;
+    std::swap(to[1], to[2]);  // the image turned over
+    EXPECT_EQ(anisotropySum(from, to), std::numeric_limits<double>::infinity());
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
 }
