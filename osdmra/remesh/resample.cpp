@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <unordered_map>
@@ -48,6 +49,8 @@ struct Job {
   const Line* line = nullptr;
   double at = 0;
 };
+
+struct Cone;
 
 class Resampler {
  public:
@@ -97,6 +100,11 @@ class Resampler {
   SurfacePoint onLine(const Line& path, double at) const;
   int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
   void gridOfFace(int f);
+  Cone coneOf(int x) const;
+  double angleAround(int x, const Cone& cone, const Vec3& at, const SurfacePoint& where) const;
+  SurfacePoint pointAround(int x, const Cone& cone, double angle, double radius) const;
+  std::vector<int> nextToVertex(int v) const;
+  void spreadCorners(int v, std::vector<Vec3>& positions);
 
   const TriMesh& input_;
   const Connectivity& inputConn_;
@@ -299,6 +307,115 @@ void Resampler::gridOfFace(int f) {
     }
 }
 
+// Input vertex x's cone: the angle of each of its faces at x (in its fan's order) and
+// where each starts, counted from the first.
+struct Cone {
+  std::vector<double> sector, start;
+  double total() const { return start.back(); }
+};
+
+Cone Resampler::coneOf(int x) const {
+  const IndexSpan fan = inputConn_.fan(x);
+  const Vec3 c = input_.V.row(x).transpose();
+  Cone cone;
+  cone.start.assign(1, 0.0);
+  for (int h : fan) {
+    cone.sector.push_back(
+        angleBetween(input_.V.row(inputConn_.to(h)).transpose() - c,
+                     input_.V.row(inputConn_.from(Connectivity::prev(h))).transpose() - c));
+    cone.start.push_back(cone.start.back() + cone.sector.back());
+  }
+  return cone;
+}
+
+// Where point `at` (sampled at `where`) lies around input vertex x, in x's own angles
+// (coneOf): in the face of x's fan it was sampled in, or, beyond x's faces, in the
+// face whose sides' directions it lies between most nearly.
+double Resampler::angleAround(int x, const Cone& cone, const Vec3& at,
+                              const SurfacePoint& where) const {
+  const IndexSpan fan = inputConn_.fan(x);
+  const Vec3 c = input_.V.row(x).transpose(), d = at - c;
+  double bestMiss = std::numeric_limits<double>::infinity(), angle = -1;
+  for (int k = 0; k < fan.size(); ++k) {
+    const Vec3 a = input_.V.row(inputConn_.to(fan[k])).transpose() - c;
+    const Vec3 b = input_.V.row(inputConn_.from(Connectivity::prev(fan[k]))).transpose() - c;
+    const double ta = angleBetween(a, d), tb = angleBetween(d, b);
+    const double miss = fan[k] / 3 == where.triangle ? -1 : ta + tb - cone.sector[k];
+    if (!(miss < bestMiss)) continue;
+    bestMiss = miss;
+    angle = cone.start[k] + (ta + tb > 0 ? cone.sector[k] * ta / (ta + tb) : 0);
+  }
+  return angle;
+}
+
+// The point at angle `angle` around input vertex x (coneOf), in the face of x's fan
+// that holds that angle, `radius` of the way from x to the face's far side.
+SurfacePoint Resampler::pointAround(int x, const Cone& cone, double angle, double radius) const {
+  const IndexSpan fan = inputConn_.fan(x);
+  int k = 0;
+  while (k + 1 < fan.size() && cone.start[k + 1] <= angle) ++k;
+  const double u =
+      cone.sector[k] > 0 ? std::clamp((angle - cone.start[k]) / cone.sector[k], 0.0, 1.0) : 0.0;
+  const int h = fan[k], corner = h % 3;
+  SurfacePoint w{h / 3, {0, 0, 0}};
+  w.bary[corner] = 1 - radius;
+  w.bary[(corner + 1) % 3] = radius * (1 - u);
+  w.bary[(corner + 2) % 3] = radius * u;
+  return w;
+}
+
+// The grid points next to base vertex v, one on each base edge out of it (free ones:
+// not on a feature line or a boundary), counter-clockwise; empty if v has another.
+std::vector<int> Resampler::nextToVertex(int v) const {
+  const long long nb = base_.V.rows();
+  std::vector<int> points;
+  for (int h : baseConn_.fan(v)) {
+    const int w = baseConn_.to(h), p = std::min(v, w), q = std::max(v, w);
+    const int step = v == p ? 1 : N_ - 1;
+    const auto it = edgePoints_.find((static_cast<std::uint64_t>(p) * nb + q) * (N_ + 1) + step);
+    if (it == edgePoints_.end() || !out_.free[it->second]) return {};
+    points.push_back(it->second);
+  }
+  return points;
+}
+
+// A grid triangle at a corner of base vertex v joins v to two grid points next to it;
+// spanning more than a half turn of the input around v, it faces against the input
+// wherever on the corner's sides they lie (armadillo over 150 base faces at J = 5,
+// docs/REMESH.md: a base face's corner covering about 200 degrees of the input's cone;
+// the clean-up may not move v and did not mend it). There, the points next to v are
+// placed around it again at angles spread by spreadAround, in its input one-ring, each
+// as far out (up to 3/4 of the ring) as it was. Corners within a half turn are not
+// touched.
+void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
+  const int x = inputOf_[v], nbv = static_cast<int>(base_.V.rows());
+  if (baseConn_.isBoundaryVertex(v) || !baseConn_.isManifoldVertex(v) ||
+      inputConn_.isBoundaryVertex(x) || !inputConn_.isManifoldVertex(x))
+    return;
+  const std::vector<int> points = nextToVertex(v);
+  if (points.size() < 3) return;
+  const Cone cone = coneOf(x);
+  std::vector<double> angle;
+  for (int id : points) {
+    angle.push_back(angleAround(x, cone, positions[id - nbv], out_.where[id]));
+    if (angle.back() < 0) return;
+  }
+  if (widestGap(angle, cone.total()) <= kPi) return;
+  const std::vector<double> spread = spreadAround(angle, cone.total(), kSpreadTo);
+  const Vec3 c = input_.V.row(x).transpose();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    SurfacePoint w = pointAround(x, cone, spread[k], 1.0);  // on the ring's far side
+    Vec3 rim = Vec3::Zero();
+    for (int i = 0; i < 3; ++i)
+      rim += w.bary[i] * input_.V.row(input_.F(w.triangle, i)).transpose();
+    const double radius =
+        std::min(0.75, (positions[points[k] - nbv] - c).norm() / (rim - c).norm());
+    w = pointAround(x, cone, spread[k], radius);
+    out_.where[points[k]] = w;
+    positions[points[k] - nbv] = c + radius * (rim - c);
+  }
+}
+
 Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
   N_ = 1 << levels;
   const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
@@ -335,6 +452,7 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
     }
   });
   if (progress) progress("resample", 1.0);
+  for (int v = 0; v < nbv; ++v) spreadCorners(v, positions);
   for (int i = 0; i < n; ++i) out_.mesh.V.row(nbv + i) = positions[i].transpose();
   out_.mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
   for (std::size_t f = 0; f < faces_.size(); ++f)
@@ -343,6 +461,50 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
 }
 
 }  // namespace
+
+double widestGap(const std::vector<double>& angles, double total) {
+  double widest = 0;
+  const std::size_t m = angles.size();
+  for (std::size_t k = 0; k < m; ++k)
+    widest = std::max(widest, std::fmod(angles[(k + 1) % m] - angles[k] + 2 * total, total));
+  return widest;
+}
+
+std::vector<double> spreadAround(const std::vector<double>& angles, double total, double most) {
+  const std::size_t m = angles.size();
+  if (m < 2 || !(m * most > total)) return angles;
+  std::vector<double> gap(m);
+  double sum = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    gap[k] = std::fmod(angles[(k + 1) % m] - angles[k] + 2 * total, total);
+    sum += gap[k];
+  }
+  if (!(std::abs(sum - total) <= 1e-9 * total)) return angles;  // not in order
+  // The gaps over `most` cut to it, the excess shared among the others by their room
+  // under it: the room is m most - total more than the excess, so none goes over.
+  double excess = 0, room = 0;
+  for (double& g : gap)
+    if (g > most) {
+      excess += g - most;
+      g = most;
+    } else {
+      room += most - g;
+    }
+  if (excess <= 0) return angles;
+  for (double& g : gap)
+    if (g < most) g = std::min(most, g + excess * (most - g) / room);
+  // Laid from the first, then turned so that the points move by nothing on average.
+  std::vector<double> out(m, 0.0);
+  for (std::size_t k = 1; k < m; ++k) out[k] = out[k - 1] + gap[k - 1];
+  double shift = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    double d = std::fmod(angles[k] - angles[0] - out[k] + 3 * total, total);
+    if (d > total / 2) d -= total;
+    shift += d / m;
+  }
+  for (double& a : out) a = std::fmod(a + angles[0] + shift + 2 * total, total);
+  return out;
+}
 
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,

@@ -11,7 +11,11 @@
 // points on feature and boundary base edges are sampled along the input's line itself
 // (the chain of input feature or boundary edges the base edge stands for), at their
 // parameter along it. The grid is laid out first; its points, independent of each
-// other, are then placed on every core.
+// other, are then placed on every core. Last, around each base vertex where a grid
+// triangle at one of its corners would span more than a half turn of the input (and so
+// face against it wherever its corners lie on the corner's sides), the grid points next
+// to the vertex are placed again in its input one-ring at angles spread apart
+// (spreadAround).
 #pragma once
 
 #include <vector>
@@ -47,6 +51,23 @@ enum class GridMap {
   /// the straightened map see only through unfolded neighbours.
   exact,
 };
+
+/// How far apart, at most, resample() spreads the grid points next to a base vertex
+/// around it (in the input's angles) where a grid triangle at one of its corners would
+/// span more than a half turn of the input: 0.9 pi, a margin under the half turn.
+constexpr double kSpreadTo = 0.9 * kPi;
+
+/// The widest gap between consecutive angles (counter-clockwise, the last to the first)
+/// of points around a vertex whose angles sum to `total`.
+double widestGap(const std::vector<double>& angles, double total);
+
+/// Angles in [0, total) of points around a vertex (counter-clockwise, in order), spread
+/// so that no gap between consecutive ones is wider than `most`: the wider gaps cut to
+/// it, the excess shared among the others in proportion to their room under it, the
+/// points then turned together so that they move by nothing on average. Returned
+/// unchanged when no gap is wider, when it cannot be done (size * most <= total), or
+/// when the angles are not in order around the vertex.
+std::vector<double> spreadAround(const std::vector<double>& angles, double total, double most);
 
 /// Resamples the simplification of `input` (whose connectivity is `inputConn` and
 /// feature edges `inputFeatures`) at `levels` rounds of 1-to-4 splitting.

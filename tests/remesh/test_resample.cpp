@@ -158,3 +158,43 @@ TEST(Resample, ABentDistortedChartComesOutWithoutAFold) {
   }
   EXPECT_EQ(findSelfIntersections(m).count, 0);
 }
+
+// The grid points next to a base vertex, spread where a corner would span more than a
+// half turn: order kept, no gap over the bound, the gaps still summing to the turn, no
+// turn of the whole on average; untouched where nothing is too wide or it cannot be done.
+TEST(Resample, SpreadAroundCutsWideCornersKeepingOrder) {
+  const double turn = 2 * kPi;
+  const std::vector<double> angles = {0.0, 0.1, 0.3, 5.9};  // one gap of 5.6
+  ASSERT_GT(widestGap(angles, turn), kPi);
+  const std::vector<double> spread = spreadAround(angles, turn, kSpreadTo);
+  ASSERT_EQ(spread.size(), angles.size());
+  EXPECT_LE(widestGap(spread, turn), kSpreadTo + 1e-12);
+  double sum = 0, shift = 0;
+  for (std::size_t k = 0; k < spread.size(); ++k) {
+    EXPECT_GE(spread[k], 0);
+    EXPECT_LT(spread[k], turn);
+    const double gap = std::fmod(spread[(k + 1) % 4] - spread[k] + 2 * turn, turn);
+    EXPECT_GT(gap, 0);  // in order: every point still follows the one before
+    sum += gap;
+    double d = std::fmod(spread[k] - angles[k] + 3 * turn, turn);
+    if (d > turn / 2) d -= turn;
+    shift += d;
+  }
+  EXPECT_NEAR(sum, turn, 1e-12);
+  EXPECT_NEAR(shift, 0, 1e-12);
+  // The gaps under the bound grew in proportion to their room under it: 0.1 and 0.2
+  // and 0.3 keep their order of size.
+  const double g0 = spread[1] - spread[0], g1 = spread[2] - spread[1];
+  EXPECT_LT(g0, g1);
+
+  const std::vector<double> even = {0.0, 2.0, 4.0};
+  EXPECT_EQ(spreadAround(even, turn, kSpreadTo), even);  // nothing over the bound
+  EXPECT_EQ(spreadAround({0.0, 0.1, 0.2}, turn, 2.0), (std::vector<double>{0.0, 0.1, 0.2}))
+      << "three gaps of at most 2 cannot close a turn of 6.28";
+  EXPECT_EQ(spreadAround({0.0, 4.0, 2.0}, turn, kSpreadTo), (std::vector<double>{0.0, 4.0, 2.0}))
+      << "out of order";
+  // A saddle (a cone of 2.5 pi) with three points: each gap at most 0.9 pi is possible.
+  const double saddle = 2.5 * kPi;
+  const std::vector<double> s3 = spreadAround({0.0, 0.5, 1.0}, saddle, kSpreadTo);
+  EXPECT_LE(widestGap(s3, saddle), kSpreadTo + 1e-12);
+}
