@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/planar.h"
 
@@ -104,6 +105,8 @@ class Resampler {
   double angleAround(int x, const Cone& cone, const Vec3& at, const SurfacePoint& where) const;
   SurfacePoint pointAround(int x, const Cone& cone, double angle, double radius) const;
   std::vector<int> nextToVertex(int v) const;
+  bool turnedOverCorner(int x, const std::vector<int>& points, const std::vector<double>& angle,
+                        double total, const std::vector<Vec3>& positions) const;
   void spreadCorners(int v, std::vector<Vec3>& positions);
 
   const TriMesh& input_;
@@ -379,14 +382,37 @@ std::vector<int> Resampler::nextToVertex(int v) const {
   return points;
 }
 
+// Whether a grid triangle at a corner of x (joining it to two consecutive `points`
+// next to it, at `angle` around it) spans more than a half turn of the input around x
+// and faces against the input under each of its corners, as the clean-up counts a
+// flipped triangle: x's faces, and those the two points were sampled in.
+bool Resampler::turnedOverCorner(int x, const std::vector<int>& points,
+                                 const std::vector<double>& angle, double total,
+                                 const std::vector<Vec3>& positions) const {
+  const int nbv = static_cast<int>(base_.V.rows()), m = static_cast<int>(points.size());
+  const Vec3 c = input_.V.row(x).transpose();
+  for (int k = 0; k < m; ++k) {
+    const int p = points[k], q = points[(k + 1) % m];
+    if (std::fmod(angle[(k + 1) % m] - angle[k] + 2 * total, total) <= kPi) continue;
+    const Vec3 n = (positions[p - nbv] - c).cross(positions[q - nbv] - c);
+    bool along = n.dot(faceNormal(input_, out_.where[p].triangle)) > 0 ||
+                 n.dot(faceNormal(input_, out_.where[q].triangle)) > 0;
+    for (int h : inputConn_.fan(x)) along = along || n.dot(faceNormal(input_, h / 3)) > 0;
+    if (!along) return true;
+  }
+  return false;
+}
+
 // A grid triangle at a corner of base vertex v joins v to two grid points next to it;
 // spanning more than a half turn of the input around v, it faces against the input
 // wherever on the corner's sides they lie (armadillo over 150 base faces at J = 5,
 // docs/REMESH.md: a base face's corner covering about 200 degrees of the input's cone;
-// the clean-up may not move v and did not mend it). There, the points next to v are
-// placed around it again at angles spread by spreadAround, in its input one-ring, each
-// as far out (up to 3/4 of the ring) as it was. Corners within a half turn are not
-// touched.
+// the clean-up may not move v and did not mend it). Where such a triangle comes out
+// turned over (turnedOverCorner), the points next to v are placed around it again at
+// angles spread by spreadAround, in its input one-ring, each as far out (up to 3/4 of
+// the ring) as it was. Elsewhere nothing is touched: a corner over a half turn of a
+// cone far from flat (a saddle, a crumple where the input crosses itself) need not turn
+// over, and spreading there folded the ogre's grid more (docs/REMESH.md).
 void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
   const int x = inputOf_[v], nbv = static_cast<int>(base_.V.rows());
   if (baseConn_.isBoundaryVertex(v) || !baseConn_.isManifoldVertex(v) ||
@@ -400,7 +426,7 @@ void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
     angle.push_back(angleAround(x, cone, positions[id - nbv], out_.where[id]));
     if (angle.back() < 0) return;
   }
-  if (widestGap(angle, cone.total()) <= kPi) return;
+  if (!turnedOverCorner(x, points, angle, cone.total(), positions)) return;
   const std::vector<double> spread = spreadAround(angle, cone.total(), kSpreadTo);
   const Vec3 c = input_.V.row(x).transpose();
   for (std::size_t k = 0; k < points.size(); ++k) {
