@@ -428,6 +428,7 @@ void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
   }
   if (!turnedOverCorner(x, points, angle, cone.total(), positions)) return;
   const std::vector<double> spread = spreadAround(angle, cone.total(), kSpreadTo);
+  if (spread == angle) return;  // out of order, or too many turns to spread
   const Vec3 c = input_.V.row(x).transpose();
   for (std::size_t k = 0; k < points.size(); ++k) {
     SurfacePoint w = pointAround(x, cone, spread[k], 1.0);  // on the ring's far side

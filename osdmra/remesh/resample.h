@@ -12,10 +12,10 @@
 // (the chain of input feature or boundary edges the base edge stands for), at their
 // parameter along it. The grid is laid out first; its points, independent of each
 // other, are then placed on every core. Last, around each base vertex where a grid
-// triangle at one of its corners would span more than a half turn of the input (and so
-// face against it wherever its corners lie on the corner's sides), the grid points next
-// to the vertex are placed again in its input one-ring at angles spread apart
-// (spreadAround).
+// triangle at one of its corners spans more than a half turn of the input and comes out
+// turned over (as it does wherever its corners lie on the corner's sides, on a cone not
+// far from flat), the grid points next to the vertex are placed again in its input
+// one-ring at angles spread apart (spreadAround).
 #pragma once
 
 #include <vector>
@@ -53,8 +53,9 @@ enum class GridMap {
 };
 
 /// How far apart, at most, resample() spreads the grid points next to a base vertex
-/// around it (in the input's angles) where a grid triangle at one of its corners would
-/// span more than a half turn of the input: 0.9 pi, a margin under the half turn.
+/// around it (in the input's angles) where a grid triangle at one of its corners spans
+/// more than a half turn of the input and is turned over: 0.9 pi, a margin under the
+/// half turn.
 constexpr double kSpreadTo = 0.9 * kPi;
 
 /// The widest gap between consecutive angles (counter-clockwise, the last to the first)
