@@ -77,8 +77,10 @@ commands:
                                components of fewer than F faces are dropped first
                                (default 0: all kept); with --max-faces, a base
                                larger than asked is split fewer times, keeping the
-                               output within M faces; S sweeps (default 5, 0: none)
-                               lower the parameterisation's stretch first
+                               output within M faces; S sweeps (default 10, 0:
+                               none) lower the parameterisation's stretch first;
+                               --samples N: samples a side of the distance to
+                               the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]
                                error against triangle count over the whole range
                                (lod's defaults but --placement levels)

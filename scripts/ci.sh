@@ -8,9 +8,12 @@ jobs=${JOBS:-2}  # the CI machine has 2 cores
 
 bash scripts/setup.sh
 
+# The test files themselves (not the library and tools they exercise) are built at -Og
+# in both builds: a third to a half of their compile time at -O3 or under the
+# sanitizers, for no measurable test time (the work is in the library).
 echo "== Release build"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DOSDMRA_BUILD_TESTS=ON -DOSDMRA_BUILD_BENCH=OFF \
-  -DOSDMRA_SANITIZE= >/dev/null
+  -DOSDMRA_SANITIZE= -DOSDMRA_TEST_COMPILE_OPTIONS=-Og >/dev/null
 cmake --build build -j"$jobs"
 echo "== Release tests"
 ctest --test-dir build --output-on-failure -j"$jobs"
@@ -21,7 +24,8 @@ ctest --test-dir build --output-on-failure -j"$jobs"
 # NDEBUG, so assertions (ours and Eigen's) stay on.
 echo "== ASan + UBSan build"
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-  -DOSDMRA_BUILD_TESTS=ON -DOSDMRA_BUILD_BENCH=OFF -DOSDMRA_SANITIZE=address,undefined >/dev/null
+  -DOSDMRA_BUILD_TESTS=ON -DOSDMRA_BUILD_BENCH=OFF -DOSDMRA_SANITIZE=address,undefined \
+  -DOSDMRA_TEST_COMPILE_OPTIONS=-Og >/dev/null
 cmake --build build-asan -j"$jobs"
 # ctest -j starts the longest tests first when it knows their times: hand it the
 # Release run's, so the slow tests do not start last and leave one core idle.

@@ -1,11 +1,14 @@
 #!/bin/sh
 # Headless test of osdmra-viewer (registered with ctest from viewer/CMakeLists.txt).
 #
-#   test_viewer.sh VIEWER IMAGE_CHECK MESH OUTDIR
+#   test_viewer.sh VIEWER IMAGE_CHECK MESH OUTDIR CLI
 #
 # Renders MESH at two budgets and in smooth mode under a virtual X server, then
 # checks the PNGs: both exist, they differ, and the head covers a sensible part of
-# each. Exits 77 (ctest: skipped) when xvfb-run is not installed.
+# each. The steps whose analysis is slow (fitting every level, remeshing) take MESH's
+# level 4 (2,048 faces of 32,768), made by the osdmra tool CLI: the same head, and a
+# test that stays quick under the sanitizers. Exits 77 (ctest: skipped) when xvfb-run
+# is not installed.
 set -eu
 
 if [ "${1:-}" != "--inside-xvfb" ]; then
@@ -17,11 +20,14 @@ if [ "${1:-}" != "--inside-xvfb" ]; then
   exec xvfb-run -a -s "-screen 0 1280x1024x24" sh "$0" --inside-xvfb "$@"
 fi
 shift
-viewer=$1 check=$2 mesh=$3 out=$4
+viewer=$1 check=$2 mesh=$3 out=$4 cli=$5
 rm -rf "$out"
 mkdir -p "$out"
 
 step() { echo "+ $*"; "$@"; }
+
+step "$cli" analyze "$mesh" --wavelets lazy -o "$out/head.mra" >/dev/null
+step "$cli" synthesize "$out/head.mra" --level 4 -o "$out/head4.obj"
 
 step "$viewer" "$mesh" --budget 500 --screenshot "$out/budget-500.png" --size 800x400
 step "$viewer" "$mesh" --budget 16098 --screenshot "$out/budget-16098.png" --size 800x400
@@ -32,17 +38,22 @@ step "$viewer" "$mesh" --budget 2000 --scheme linear --color level --wireframe -
   --screenshot "$out/linear-level.png" --size 800x400
 
 # Fitted once per level (--placement levels); an unknown placement is refused.
-step "$viewer" "$mesh" --budget 2000 --scheme linear --placement levels \
+step "$viewer" "$out/head4.obj" --budget 800 --scheme linear --placement levels \
   --screenshot "$out/levels.png" --size 800x400
 if "$viewer" "$mesh" --placement bogus --screenshot "$out/bogus.png" 2>"$out/bogus.err"; then
   echo "FAIL: --placement bogus accepted"; exit 1
 fi
 grep -q 'placement must be' "$out/bogus.err" || { echo "FAIL: no placement message"; exit 1; }
 
-# Through the remesher (--remesh): the head is remeshed over its own new base.
-step "$viewer" "$mesh" --remesh --base-faces 200 --levels 3 --budget 3000 \
+# Through the remesher (--remesh): the head is remeshed over its own new base, its
+# distance to the input measured with --samples a side.
+step "$viewer" "$out/head4.obj" --remesh --base-faces 100 --levels 3 --budget 1500 --samples 5000 \
   --screenshot "$out/remesh.png" --size 800x400 >"$out/remesh.txt"
-grep -q 'remeshed over' "$out/remesh.txt" || { echo "FAIL: no remeshing report"; exit 1; }
+grep -q 'remeshed over 100 base faces' "$out/remesh.txt" || { echo "FAIL: no remeshing report"; exit 1; }
+if "$viewer" "$mesh" --remesh --samples -1 --screenshot "$out/bad-samples.png" 2>"$out/samples.err"; then
+  echo "FAIL: --samples -1 accepted"; exit 1
+fi
+grep -q -- '--samples' "$out/samples.err" || { echo "FAIL: no --samples message"; exit 1; }
 
 # The slider benchmark: runs, reports JSON with a frame time per step (2K-2 steps).
 step "$viewer" "$mesh" --bench-slider 3 --size 400x200 --json >"$out/bench.json"
@@ -65,7 +76,7 @@ if env -u DISPLAY "$viewer" "$mesh" --screenshot "$out/nodisplay.png" 2>"$out/no
   echo "FAIL: rendered without a display"; exit 1
 fi
 grep -q '^osdmra-viewer: ' "$out/nodisplay.err" || { echo "FAIL: no error message"; exit 1; }
-for f in bad.png nodisplay.png; do
+for f in bad.png nodisplay.png bad-samples.png; do
   [ ! -e "$out/$f" ] || { echo "FAIL: $f was written"; exit 1; }
 done
 echo "viewer test passed"

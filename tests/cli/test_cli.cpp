@@ -300,13 +300,14 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
     const TriMesh t = readMesh(path("t3.obj"));
     std::ofstream(path("t3dup.obj")) << readFile(path("t3.obj")) << "f " << t.F(7, 2) + 1 << " "
                                      << t.F(7, 1) + 1 << " " << t.F(7, 0) + 1 << "\n";
-    const Result dup = run("remesh " + path("t3dup.obj") +
-                           " --base-faces 100 --levels 2 --json -o " + path("dup.obj"));
+    const Result dup =
+        run("remesh " + path("t3dup.obj") +
+            " --samples 2000 --base-faces 100 --levels 2 --json -o " + path("dup.obj"));
     ASSERT_EQ(dup.status, 0) << dup.err;
     EXPECT_NE(dup.out.find("\"duplicate_faces_dropped\": 1"), std::string::npos) << dup.out;
   }
-  const Result r =
-      run("remesh " + path("t3.obj") + " --base-faces 100 --levels 4 --json -o " + path("r.ply"));
+  const Result r = run("remesh " + path("t3.obj") +
+                       " --samples 2000 --base-faces 100 --levels 4 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* key :
        {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
@@ -325,7 +326,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   // there, as it was before the smoothing; a negative count is refused, by its flag.
   const Result unsmoothed =
       run("remesh " + path("t3.obj") +
-          " --base-faces 100 --levels 4 --smoothing-sweeps 0 --json -o " + path("u.ply"));
+          " --samples 2000 --base-faces 100 --levels 4 --smoothing-sweeps 0 --json -o " +
+          path("u.ply"));
   ASSERT_EQ(unsmoothed.status, 0) << unsmoothed.err;
   // The JSON says what the smoothing did: some moves by default, none without it.
   EXPECT_EQ(r.out.find("\"smoothing\": {\"moves\": 0,"), std::string::npos) << r.out;
@@ -355,16 +357,16 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
     for (Eigen::Index f = 0; f < t.F.rows(); ++f)
       soup << "f " << 3 * f + 1 << " " << 3 * f + 2 << " " << 3 * f + 3 << "\n";
   }
-  const Result s =
-      run("remesh " + path("soup.obj") + " --base-faces 100 --levels 4 --json -o " + path("s.ply"));
+  const Result s = run("remesh " + path("soup.obj") +
+                       " --samples 2000 --base-faces 100 --levels 4 --json -o " + path("s.ply"));
   ASSERT_EQ(s.status, 0) << s.err;
   for (const char* key : {"\"welded_vertices\": ", "\"self_intersections\": 0", "\"warnings\": []"})
     EXPECT_NE(s.out.find(key), std::string::npos) << key << " in " << s.out;
   EXPECT_EQ(s.out.find("\"welded_vertices\": 0"), std::string::npos) << s.out;
   // A base far too coarse, split once: the result is far from the input somewhere,
   // and the user is told (stderr and JSON) but still gets it.
-  const Result coarse =
-      run("remesh " + path("t3.obj") + " --base-faces 4 --levels 1 --json -o " + path("c.obj"));
+  const Result coarse = run("remesh " + path("t3.obj") +
+                            " --samples 2000 --base-faces 4 --levels 1 --json -o " + path("c.obj"));
   ASSERT_EQ(coarse.status, 0) << coarse.err;
   EXPECT_NE(coarse.err.find("warning: " + path("t3.obj") + ": the remeshed surface is"),
             std::string::npos)
@@ -380,8 +382,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_TRUE(fs::exists(path("c.obj")));
   // --max-faces splits that larger base fewer times than --levels asks.
   const Result capped =
-      run("remesh " + path("t3.obj") + " --base-faces 4 --levels 5 --max-faces 2000 --json -o " +
-          path("c.obj"));
+      run("remesh " + path("t3.obj") +
+          " --samples 2000 --base-faces 4 --levels 5 --max-faces 2000 --json -o " + path("c.obj"));
   ASSERT_EQ(capped.status, 0) << capped.err;
   EXPECT_EQ(capped.out.find("\"levels\": 5,"), std::string::npos) << capped.out;
   EXPECT_LE(readValidMesh(path("c.obj")).F.rows(), 2000);
@@ -414,11 +416,17 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_EQ(small.out.find("\"kept\": true", kept + 1), std::string::npos) << small.out;
   EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 200);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
-  // Without --levels too, the levels keep each remeshing within 2^19 faces: 5 over 50.
-  const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --samples 500 " +
-                            "--json -o " + path("l.obj"));
+  // Without --levels too, each base gets as many levels as keep its remeshing within
+  // --max-faces (2^19 by default, the remesher's 5 levels over 300 faces; 5 over 50),
+  // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 48
+  // faces the torus keeps for the 12 asked (12 * 4^4 would fit).
+  const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --max-faces 3200 " +
+                            "--samples 500 --json -o " + path("l.obj"));
   ASSERT_EQ(levels.status, 0) << levels.err;
-  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 50, \"base_faces\": 50, \"levels\": 5,"),
+  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 50, \"base_faces\": 50, \"levels\": 3,"),
+            std::string::npos)
+      << levels.out;
+  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 12, \"base_faces\": 48, \"levels\": 3,"),
             std::string::npos)
       << levels.out;
   // A torus cannot be remeshed over the 4 faces a budget of 8 asks for: the
@@ -447,8 +455,9 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
          "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
          "f 1 6 5\nf 1 5 7\nf 1 7 6\nf 5 6 7\n";
   }
-  const Result split = run("remesh " + path("bowtie.obj") +
-                           " --base-faces 8 --levels 2 --json -o " + path("bow.obj"));
+  const Result split =
+      run("remesh " + path("bowtie.obj") + " --samples 2000 --base-faces 8 --levels 2 --json -o " +
+          path("bow.obj"));
   ASSERT_EQ(split.status, 0) << split.err;
   EXPECT_NE(split.out.find("\"split_vertices\": 1"), std::string::npos) << split.out;
   EXPECT_NE(split.err.find("(the input itself has 6 crossing pairs)"), std::string::npos)
@@ -464,8 +473,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.err.find("edge (0, 1) is shared by 3 faces"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(path("b.mra")));
-  const Result cut =
-      run("remesh " + path("book.obj") + " --base-faces 8 --levels 2 --json -o " + path("b.obj"));
+  const Result cut = run("remesh " + path("book.obj") +
+                         " --samples 2000 --base-faces 8 --levels 2 --json -o " + path("b.obj"));
   ASSERT_EQ(cut.status, 0) << cut.err;
   EXPECT_NE(cut.out.find("\"non_manifold_edges_cut\": 1"), std::string::npos) << cut.out;
   EXPECT_NE(cut.err.find("1 non-manifold edges (three faces or more) were cut open"),
@@ -474,8 +483,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_EQ(topology(readValidMesh(path("b.obj"))).components, 3);
   // A CAD export's zero-area faces are mended, and the command says so.
   writeMesh(path("fanned.off"), fannedCube(4));
-  const Result fanned =
-      run("remesh " + path("fanned.off") + " --base-faces 30 --levels 2 -o " + path("f.obj"));
+  const Result fanned = run("remesh " + path("fanned.off") +
+                            " --samples 2000 --base-faces 30 --levels 2 -o " + path("f.obj"));
   ASSERT_EQ(fanned.status, 0) << fanned.err;
   EXPECT_NE(fanned.out.find("mended 12 zero-area faces (12 flipped"), std::string::npos)
       << fanned.out;
@@ -510,9 +519,9 @@ TEST_F(Cli, CompressMeetsEachRateTargetWithinFivePercent) {
   for (const Target& t : {Target{"--bytes", 4000, "4000"}, Target{"--bits-per-vertex", 1.5, "1.5"},
                           Target{"--psnr", 50, "50"}, Target{"--psnr", 70, "70"}}) {
     SCOPED_TRACE(t.flag + " " + t.text);
-    // 20,000 samples a side for the surface PSNR: a quicker search, the same check.
+    // 5,000 samples a side for the surface PSNR: a quicker search, the same check.
     const Result c = run("compress " + path("ico5.obj") + " " + t.flag + " " + t.text +
-                         " --samples 20000 --json -o " + path("ico.osz"));
+                         " --samples 5000 --json -o " + path("ico.osz"));
     ASSERT_EQ(c.status, 0) << c.err;
     const double bytes = jsonNumber(c.out, "bytes"), dB = jsonNumber(c.out, "psnr");
     EXPECT_EQ(bytes, static_cast<double>(fs::file_size(path("ico.osz"))));
