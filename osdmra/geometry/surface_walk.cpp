@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "osdmra/geometry/normals.h"
+
 namespace osdmra {
 
 std::array<double, 3> clampedBarycentric(std::array<double, 3> b) {
@@ -24,6 +26,28 @@ bool barycentricIn(const TriMesh& mesh, int t, const Eigen::Vector3d& x,
   const double w = (d11 * d.dot(e2) - d12 * d.dot(e1)) / det;
   bary = {1 - u - w, u, w};
   return true;
+}
+
+bool facesAlong(const TriMesh& mesh, const Connectivity& conn, const SurfacePoint& p,
+                const Eigen::Vector3d& n) {
+  if (p.triangle < 0 || n.dot(faceNormal(mesh, p.triangle)) > 0) return true;
+  int zeros = 0, zero = -1, inside = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (p.bary[k] > 0) {
+      inside = k;
+    } else {
+      ++zeros;
+      zero = k;
+    }
+  }
+  if (zeros == 1) {  // on the edge opposite corner `zero`: the face across it too
+    const int h = conn.twin(3 * p.triangle + (zero + 1) % 3);
+    return h >= 0 && n.dot(faceNormal(mesh, h / 3)) > 0;
+  }
+  if (zeros == 2)  // at corner `inside`: every face around it
+    for (int h : conn.fan(mesh.F(p.triangle, inside)))
+      if (n.dot(faceNormal(mesh, h / 3)) > 0) return true;
+  return false;
 }
 
 SurfaceWalker::SurfaceWalker(const TriMesh& mesh, const std::vector<std::array<int, 2>>& stops)

@@ -29,6 +29,14 @@ std::array<double, 3> clampedBarycentric(std::array<double, 3> b);
 bool barycentricIn(const TriMesh& mesh, int t, const Eigen::Vector3d& x,
                    std::array<double, 3>& bary);
 
+/// Whether direction n faces along `mesh` at point p: n points to the side of p's face
+/// (positive dot product with its normal) or, where p lies on an edge or at a vertex,
+/// of a face that shares that edge or vertex. A triangle whose normal faces along the
+/// mesh under none of its corners is turned over against it, unambiguously even where
+/// the mesh is thin (the remesher counts flipped triangles so). True if p has no face.
+bool facesAlong(const TriMesh& mesh, const Connectivity& conn, const SurfacePoint& p,
+                const Eigen::Vector3d& n);
+
 /// Walks on a triangle mesh (which must outlive the walker). A walk from point p
 /// along displacement d goes straight: d is taken in the plane of the face it is in,
 /// and where it leaves the face its remainder is unfolded into the next face (same

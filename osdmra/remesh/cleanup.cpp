@@ -109,7 +109,6 @@ class Cleaner {
 
   // What counts as a defect, and how good a vertex's triangles are.
   Vec3 reference(int v) const;
-  bool facesAlong(const Where& w, const Vec3& n) const;
   bool badCorners(int i, int j, int k, bool& degenerate) const;
   bool bad(Eigen::Index f, bool& degenerate) const;
   bool bad(Eigen::Index f) const;
@@ -246,28 +245,6 @@ Vec3 Cleaner::reference(int v) const {
 // sides: a grid triangle flat on one side whose corners all lie on the edge was counted
 // flipped when they were sampled in the other side's triangles (a cylinder's cap, at
 // the corner of a base face with two edges on its rim).
-bool Cleaner::facesAlong(const Where& w, const Vec3& n) const {
-  if (w.triangle < 0 || n.dot(faceNormal(input_, w.triangle)) > 0) return true;
-  int zeros = 0, zero = -1, inside = -1;
-  for (int k = 0; k < 3; ++k) {
-    if (w.bary[k] > 0) {
-      inside = k;
-    } else {
-      ++zeros;
-      zero = k;
-    }
-  }
-  const Connectivity& conn = walker_.connectivity();
-  if (zeros == 1) {
-    const int h = conn.twin(3 * w.triangle + (zero + 1) % 3);
-    return h >= 0 && n.dot(faceNormal(input_, h / 3)) > 0;
-  }
-  if (zeros == 2)
-    for (int h : conn.fan(input_.F(w.triangle, inside)))
-      if (n.dot(faceNormal(input_, h / 3)) > 0) return true;
-  return false;
-}
-
 // A grid triangle is flipped when it faces against the input triangles under each of its
 // corners (where they were sampled): unambiguous even on thin parts, where the nearest
 // input point may lie on the other side, and on a coarse input, where interpolated
@@ -278,7 +255,7 @@ bool Cleaner::badCorners(int i, int j, int k, bool& degenerate) const {
   degenerate = n.norm() <= tinyArea_;
   if (degenerate) return true;
   for (int v : {i, j, k})
-    if (facesAlong(where_[v], n)) return false;
+    if (facesAlong(input_, walker_.connectivity(), where_[v], n)) return false;
   return true;
 }
 

@@ -9,13 +9,18 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
-#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
 
 namespace {
+
+// The angle from angles[k] to the next one (the last's to the first's), counter-
+// clockwise around a vertex whose angles sum to `total`.
+double gapAfter(const std::vector<double>& angles, std::size_t k, double total) {
+  return std::fmod(angles[(k + 1) % angles.size()] - angles[k] + 2 * total, total);
+}
 
 // A parameter on an edge or at a corner of its base face also lies in the faces that
 // share that edge or corner: the same point in face g's corner order, if so.
@@ -105,7 +110,7 @@ class Resampler {
   double angleAround(int x, const Cone& cone, const Vec3& at, const SurfacePoint& where) const;
   SurfacePoint pointAround(int x, const Cone& cone, double angle, double radius) const;
   std::vector<int> nextToVertex(int v) const;
-  bool turnedOverCorner(int x, const std::vector<int>& points, const std::vector<double>& angle,
+  bool turnedOverCorner(int v, const std::vector<int>& points, const std::vector<double>& angle,
                         double total, const std::vector<Vec3>& positions) const;
   void spreadCorners(int v, std::vector<Vec3>& positions);
 
@@ -382,22 +387,22 @@ std::vector<int> Resampler::nextToVertex(int v) const {
   return points;
 }
 
-// Whether a grid triangle at a corner of x (joining it to two consecutive `points`
-// next to it, at `angle` around it) spans more than a half turn of the input around x
-// and faces against the input under each of its corners, as the clean-up counts a
-// flipped triangle: x's faces, and those the two points were sampled in.
-bool Resampler::turnedOverCorner(int x, const std::vector<int>& points,
+// Whether a grid triangle at a corner of base vertex v (joining it to two consecutive
+// `points` next to it, at `angle` around it) spans more than a half turn of the input
+// around v and is turned over: it faces along the input under none of its corners, as
+// the clean-up counts a flipped triangle (facesAlong).
+bool Resampler::turnedOverCorner(int v, const std::vector<int>& points,
                                  const std::vector<double>& angle, double total,
                                  const std::vector<Vec3>& positions) const {
   const int nbv = static_cast<int>(base_.V.rows()), m = static_cast<int>(points.size());
-  const Vec3 c = input_.V.row(x).transpose();
+  const Vec3 c = input_.V.row(inputOf_[v]).transpose();
   for (int k = 0; k < m; ++k) {
     const int p = points[k], q = points[(k + 1) % m];
-    if (std::fmod(angle[(k + 1) % m] - angle[k] + 2 * total, total) <= kPi) continue;
+    if (gapAfter(angle, k, total) <= kPi) continue;
     const Vec3 n = (positions[p - nbv] - c).cross(positions[q - nbv] - c);
-    bool along = n.dot(faceNormal(input_, out_.where[p].triangle)) > 0 ||
-                 n.dot(faceNormal(input_, out_.where[q].triangle)) > 0;
-    for (int h : inputConn_.fan(x)) along = along || n.dot(faceNormal(input_, h / 3)) > 0;
+    const bool along = facesAlong(input_, inputConn_, out_.where[v], n) ||
+                       facesAlong(input_, inputConn_, out_.where[p], n) ||
+                       facesAlong(input_, inputConn_, out_.where[q], n);
     if (!along) return true;
   }
   return false;
@@ -426,7 +431,7 @@ void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
     angle.push_back(angleAround(x, cone, positions[id - nbv], out_.where[id]));
     if (angle.back() < 0) return;
   }
-  if (!turnedOverCorner(x, points, angle, cone.total(), positions)) return;
+  if (!turnedOverCorner(v, points, angle, cone.total(), positions)) return;
   const std::vector<double> spread = spreadAround(angle, cone.total(), kSpreadTo);
   if (spread == angle) return;  // out of order, or too many turns to spread
   const Vec3 c = input_.V.row(x).transpose();
@@ -492,8 +497,7 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
 double widestGap(const std::vector<double>& angles, double total) {
   double widest = 0;
   const std::size_t m = angles.size();
-  for (std::size_t k = 0; k < m; ++k)
-    widest = std::max(widest, std::fmod(angles[(k + 1) % m] - angles[k] + 2 * total, total));
+  for (std::size_t k = 0; k < m; ++k) widest = std::max(widest, gapAfter(angles, k, total));
   return widest;
 }
 
@@ -503,7 +507,7 @@ std::vector<double> spreadAround(const std::vector<double>& angles, double total
   std::vector<double> gap(m);
   double sum = 0;
   for (std::size_t k = 0; k < m; ++k) {
-    gap[k] = std::fmod(angles[(k + 1) % m] - angles[k] + 2 * total, total);
+    gap[k] = gapAfter(angles, k, total);
     sum += gap[k];
   }
   if (!(std::abs(sum - total) <= 1e-9 * total)) return angles;  // not in order
