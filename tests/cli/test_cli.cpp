@@ -217,12 +217,13 @@ TEST_F(Cli, LodWritesAValidMeshWithinBudgetAndReportsErrors) {
     EXPECT_LE(m.F.rows(), 1500);
     EXPECT_GT(m.F.rows(), 1000);
   }
-  ASSERT_EQ(run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --placement surface -o " +
-                path("s.obj"))
-                .status,
-            0);
-  ASSERT_EQ(run("lod " + path("g3.ply") + " --scheme linear --budget 1500 --placement fit -o " +
-                path("f.obj"))
+  ASSERT_EQ(
+      run("lod " + path("g3.ply") +
+          " --scheme linear --budget 1500 --samples 2000 --placement surface -o " + path("s.obj"))
+          .status,
+      0);
+  ASSERT_EQ(run("lod " + path("g3.ply") +
+                " --scheme linear --budget 1500 --samples 2000 --placement fit -o " + path("f.obj"))
                 .status,
             0);
   const TriMesh onSurface = readValidMesh(path("s.obj")), fitted = readValidMesh(path("f.obj"));
@@ -245,10 +246,11 @@ TEST_F(Cli, LodDefaultsAndABudgetBelowTheBase) {
       run("lod " + path("g3.ply") + " --budget 1500 --samples 2000 --json -o " + path("d.obj"));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("\"scheme\": \"linear\""), std::string::npos) << r.out;
-  ASSERT_EQ(run("lod " + path("g3.ply") + " --budget 1500 --scheme linear --placement closest -o " +
-                path("c.obj"))
-                .status,
-            0);
+  ASSERT_EQ(
+      run("lod " + path("g3.ply") +
+          " --budget 1500 --samples 2000 --scheme linear --placement closest -o " + path("c.obj"))
+          .status,
+      0);
   const TriMesh byDefault = readValidMesh(path("d.obj")), closest = readValidMesh(path("c.obj"));
   EXPECT_EQ(byDefault.F, closest.F);
   EXPECT_EQ(byDefault.V, closest.V);
@@ -553,7 +555,8 @@ TEST_F(Cli, CompressMeetsEachRateTargetWithinFivePercent) {
 
 TEST_F(Cli, DecompressDecodesAPrefixAndRefusesOtherFiles) {
   ASSERT_NO_FATAL_FAILURE(makeSurface("octahedron", "oct.obj", "4 --displace 0.02", "oct4.obj"));
-  ASSERT_EQ(run("compress " + path("oct4.obj") + " -o " + path("oct.osz")).status, 0);
+  ASSERT_EQ(run("compress " + path("oct4.obj") + " --samples 2000 -o " + path("oct.osz")).status,
+            0);
   const double whole = static_cast<double>(fs::file_size(path("oct.osz")));
   const Result d = run("decompress " + path("oct.osz") + " --bytes 400 --json -o " + path("p.obj"));
   ASSERT_EQ(d.status, 0) << d.err;
@@ -583,8 +586,8 @@ TEST_F(Cli, CompressDefaultsToFixedWavelets) {
                                     {"--wavelets lazy", "lazy"},
                                     {"--wavelets quasi", "quasi"}}) {
     SCOPED_TRACE(flags);
-    const Result c =
-        run("compress " + path("oct3.obj") + " " + flags + " --json -o " + path("o.osz"));
+    const Result c = run("compress " + path("oct3.obj") + " " + flags +
+                         " --samples 2000 --json -o " + path("o.osz"));
     ASSERT_EQ(c.status, 0) << c.err;
     EXPECT_NE(c.out.find("\"wavelets\": \"" + kind + "\""), std::string::npos) << c.out;
     const Result d = run("decompress " + path("o.osz") + " --json -o " + path("o.obj"));
@@ -600,7 +603,8 @@ TEST_F(Cli, CompressRemeshesAnyManifoldMeshAndRefusesWithoutIt) {
   ASSERT_NO_FATAL_FAILURE(makeSurface("torus", "t.obj", "3 --displace 0.02", "t3.obj"));
   const Result c =
       run("compress " + path("t3.obj") +
-          " --remesh --base-faces 100 --levels 3 --bytes 3000 --json -o " + path("t.osz"));
+          " --remesh --base-faces 100 --levels 3 --bytes 3000 --samples 2000 --json -o " +
+          path("t.osz"));
   ASSERT_EQ(c.status, 0) << c.err;
   EXPECT_NE(c.out.find("\"remesh\": {"), std::string::npos) << c.out;
   const double bytes = jsonNumber(c.out, "bytes"), baseFaces = jsonNumber(c.out, "base_faces");
