@@ -37,13 +37,6 @@ WaveletOptions waveletOptions(const Args& args) {
   return w;
 }
 
-DistanceOptions distanceOptions(const Args& args) {
-  DistanceOptions o;
-  o.samples = static_cast<int>(args.integer("samples", 100000, 0, 100000000));
-  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1LL << 62));
-  return o;
-}
-
 InputOptions inputOptions(const Args& args) {
   InputOptions o;
   o.remesh = args.has("remesh");

@@ -28,7 +28,6 @@ Common common(const Args& args);
 std::set<std::string> flags(std::set<std::string> extra = {});
 
 WaveletOptions waveletOptions(const Args& args);
-DistanceOptions distanceOptions(const Args& args);
 /// --remesh and its options, with the distance options of the command.
 InputOptions inputOptions(const Args& args);
 /// What a command takes where its options say nothing.

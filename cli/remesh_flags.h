@@ -1,8 +1,10 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
-// --max-faces, --smoothing-sweeps), read the same way by the tool and the viewer.
+// --max-faces, --smoothing-sweeps) and those of the distance it reports (--samples,
+// --seed), read the same way by the tool and the viewer.
 #pragma once
 
 #include "args.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/remesh/remesh.h"
 
 namespace osdmra::cli {
@@ -15,6 +17,13 @@ inline RemeshOptions remeshOptions(const Args& args) {
   o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
   o.smoothingSweeps =
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
+  return o;
+}
+
+inline DistanceOptions distanceOptions(const Args& args) {
+  DistanceOptions o;
+  o.samples = static_cast<int>(args.integer("samples", o.samples, 0, 100000000));
+  o.seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1LL << 62));
   return o;
 }
 

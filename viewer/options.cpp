@@ -29,7 +29,7 @@ const char* const kUsage =
     "                      --max-faces N splits a base larger than asked fewer times;\n"
     "                      --smoothing-sweeps S (default 10, 0: none) evens the sampling;\n"
     "                      --samples N: samples a side of the distance to MESH it\n"
-    "                      reports (default 100000)\n"
+    "                      reports (default 100000), --seed S their seed (default 1)\n"
     "  --view V            front (default), side, top or iso\n"
     "  --color C           plain (default), level or error\n"
     "  --error-scale P     error colouring: red at P percent of the diagonal (default 0.2)\n"
@@ -86,8 +86,7 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   osdmra::InputOptions& in = o.request.input;
   in.remesh = args.has("remesh");
   in.remeshing = osdmra::cli::remeshOptions(args);
-  in.distance.samples =
-      static_cast<int>(args.integer("samples", in.distance.samples, 0, 100000000));
+  in.distance = osdmra::cli::distanceOptions(args);
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));
 }
@@ -140,7 +139,8 @@ Options parseOptions(const std::vector<std::string>& argv) {
                  "max-faces", "smoothing-sweeps", "view",
                  "color",     "error-scale",      "layout",
                  "tess",      "smooth-level",     "screenshot",
-                 "size",      "bench-slider",     "samples"},
+                 "size",      "bench-slider",     "samples",
+                 "seed"},
       {"remesh", "wireframe", "smooth", "json", "no-pane-cache", "help", "h"},
       "osdmra-viewer --help");
   Options o;

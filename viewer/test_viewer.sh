@@ -54,6 +54,10 @@ if "$viewer" "$mesh" --remesh --samples -1 --screenshot "$out/bad-samples.png" 2
   echo "FAIL: --samples -1 accepted"; exit 1
 fi
 grep -q -- '--samples' "$out/samples.err" || { echo "FAIL: no --samples message"; exit 1; }
+if "$viewer" "$mesh" --remesh --seed -1 --screenshot "$out/bad-seed.png" 2>"$out/seed.err"; then
+  echo "FAIL: --seed -1 accepted"; exit 1
+fi
+grep -q -- '--seed' "$out/seed.err" || { echo "FAIL: no --seed message"; exit 1; }
 
 # The slider benchmark: runs, reports JSON with a frame time per step (2K-2 steps).
 step "$viewer" "$mesh" --bench-slider 3 --size 400x200 --json >"$out/bench.json"
@@ -76,7 +80,7 @@ if env -u DISPLAY "$viewer" "$mesh" --screenshot "$out/nodisplay.png" 2>"$out/no
   echo "FAIL: rendered without a display"; exit 1
 fi
 grep -q '^osdmra-viewer: ' "$out/nodisplay.err" || { echo "FAIL: no error message"; exit 1; }
-for f in bad.png nodisplay.png bad-samples.png; do
+for f in bad.png nodisplay.png bad-samples.png bad-seed.png; do
   [ ! -e "$out/$f" ] || { echo "FAIL: $f was written"; exit 1; }
 done
 echo "viewer test passed"
