@@ -33,7 +33,11 @@ bool barycentricIn(const TriMesh& mesh, int t, const Eigen::Vector3d& x,
 /// (positive dot product with its normal) or, where p lies on an edge or at a vertex,
 /// of a face that shares that edge or vertex. A triangle whose normal faces along the
 /// mesh under none of its corners is turned over against it, unambiguously even where
-/// the mesh is thin (the remesher counts flipped triangles so). True if p has no face.
+/// the mesh is thin (the remesher counts flipped triangles so). On a sharp edge a point
+/// belongs to both sides: a triangle flat on one side whose corners all lie on the edge
+/// would be counted flipped if they were sampled in the other side's faces (a
+/// cylinder's cap, at the corner of a base face with two edges on its rim).
+/// True if p has no face.
 bool facesAlong(const TriMesh& mesh, const Connectivity& conn, const SurfacePoint& p,
                 const Eigen::Vector3d& n);
 

@@ -239,12 +239,6 @@ Vec3 Cleaner::reference(int v) const {
   return n;
 }
 
-// Whether normal n faces along an input triangle under sample w: the one it was sampled
-// in, and where it lies on that triangle's edge or corner (as samples on feature lines
-// and boundaries do) the others there too. On a sharp edge a sample belongs to both
-// sides: a grid triangle flat on one side whose corners all lie on the edge was counted
-// flipped when they were sampled in the other side's triangles (a cylinder's cap, at
-// the corner of a base face with two edges on its rim).
 // A grid triangle is flipped when it faces against the input triangles under each of its
 // corners (where they were sampled): unambiguous even on thin parts, where the nearest
 // input point may lie on the other side, and on a coarse input, where interpolated
