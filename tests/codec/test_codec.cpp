@@ -249,7 +249,7 @@ void fixChecksums(std::vector<std::uint8_t>& b) {
 }
 
 TEST(CodecFuzz, DamagedStreamsDecodeOrThrowError) {
-  const Surface s("octahedron", 3, Scheme::Loop);
+  const Surface s("octahedron", 2, Scheme::Loop);
   CodecOptions o;
   o.precision = 1e-3;
   const std::vector<std::uint8_t> good = compress(s.bank, s.d, s.mesh.V, {}, o).bytes;

@@ -239,7 +239,7 @@ TEST(Placement, ClosestTurnsNoFaceOverAndComesCloser) {
         EXPECT_LE(squared(y.mesh.V), squared(x.mesh.V)) << budget;
         if (roughness > 0.02) continue;
         DistanceOptions dist;
-        dist.samples = 20000;
+        dist.samples = 5000;
         EXPECT_LT(surfaceDistance(y.mesh, full, dist).rmsRelative,
                   surfaceDistance(x.mesh, full, dist).rmsRelative)
             << budget;

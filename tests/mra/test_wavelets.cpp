@@ -300,9 +300,11 @@ TEST(Wavelets, NormsMatchAssembledGram) {
         for (int j = 0; j < J; ++j) {
           const SparseMatrix Q = synthesisMatrix(h, s, j, alphas[j]);
           const SparseMatrix I = gram(h.connectivity(j + 1), j + 1, elements);
-          const SparseMatrix IQ = I * Q;
+          // diag(Q^T I Q): column c's q_c^T (I q_c), summed over the rows of Q .* (I Q)
+          // (the whole product Q^T I Q, most of it off the diagonal, was most of the time).
+          const SparseMatrix QIQ = Q.cwiseProduct(SparseMatrix(I * Q));
           const Eigen::VectorXd expected =
-              SparseMatrix(SparseMatrix(Q.transpose()) * IQ).diagonal().cwiseSqrt();
+              (SparseMatrix(QIQ.transpose()) * Eigen::VectorXd::Ones(Q.rows())).cwiseSqrt();
           ASSERT_EQ(norms[j].size(), expected.size());
           EXPECT_LT((norms[j] - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.maxCoeff())
               << "level " << j;
