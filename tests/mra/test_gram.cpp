@@ -15,28 +15,28 @@ using namespace osdmra;
 
 namespace {
 
-struct Case {
+struct GramCase {
   std::string shape;
   Scheme scheme;
 };
 
-std::string caseName(const testing::TestParamInfo<Case>& info) {
+std::string gramCaseName(const testing::TestParamInfo<GramCase>& info) {
   return info.param.shape + "_" + schemeName(info.param.scheme);
 }
 
 // Readable parameters in test listings (ctest names) instead of raw bytes.
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const GramCase& c, std::ostream* os) {
   *os << c.shape << " " << schemeName(c.scheme);
 }
 
-std::vector<Case> allCases() {
-  std::vector<Case> cases;
+std::vector<GramCase> allGramCases() {
+  std::vector<GramCase> cases;
   for (auto& [name, mesh] : shapes::all())
     for (Scheme s : {Scheme::Loop, Scheme::Linear}) cases.push_back({name, s});
   return cases;
 }
 
-class GramProperties : public testing::TestWithParam<Case> {};
+class GramProperties : public testing::TestWithParam<GramCase> {};
 
 double maxAbs(const SparseMatrix& A) {
   double m = 0;
@@ -74,7 +74,8 @@ TEST_P(GramProperties, SymmetricDefiniteRefinableAndPartitionOfUnity) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllShapes, GramProperties, testing::ValuesIn(allCases()), caseName);
+INSTANTIATE_TEST_SUITE_P(AllShapes, GramProperties, testing::ValuesIn(allGramCases()),
+                         gramCaseName);
 
 namespace {
 double maxAbsDiff(const SparseMatrix& A, const SparseMatrix& B) {
