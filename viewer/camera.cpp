@@ -41,13 +41,13 @@ void Camera::setView(View v) {
 }
 
 void Camera::drag(const Eigen::Vector2f& from, const Eigen::Vector2f& to) {
-  // The rotation taking a to b: half the angle between them about a x b. Both lifted
-  // points have z > 0, so they are never opposite (where the axis would be undefined);
-  // Quaternion::FromTwoVectors handles that case with an SVD that cost every file
-  // including it ten seconds of compilation.
+  // The rotation taking a to b: half the angle between them about a x b, as the
+  // quaternion (1 + a.b, a x b) up to scale, which the normalisation of the product
+  // removes. Both lifted points have z > 0, so they are never opposite (where the axis
+  // would be undefined); Quaternion::FromTwoVectors handles that case with an SVD that
+  // cost every file including it ten seconds of compilation.
   const Eigen::Vector3f a = lift(from), b = lift(to), axis = a.cross(b);
-  Eigen::Quaternionf q(1.0f + a.dot(b), axis.x(), axis.y(), axis.z());
-  q.normalize();
+  const Eigen::Quaternionf q(1.0f + a.dot(b), axis.x(), axis.y(), axis.z());
   rotation = (q * rotation).normalized();
 }
 
