@@ -153,18 +153,53 @@ void markCorners(const Points& V, const std::vector<std::vector<int>>& along, do
 
 }  // namespace
 
+// Interior vertices whose face angles sum to under kMaxTipAngle.
+std::vector<char> findTips(const TriMesh& m, const Connectivity& c) {
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<double> angle(n, 0.0);
+  std::vector<char> rim(n, 0);
+  for (int h = 0; h < 3 * c.numFaces(); ++h) {
+    const int v = c.from(h);
+    if (c.twin(h) < 0) rim[v] = rim[c.to(h)] = 1;
+    const Vec3 a = (m.V.row(c.to(h)) - m.V.row(v)).transpose();
+    const Vec3 b = (m.V.row(c.from(Connectivity::prev(h))) - m.V.row(v)).transpose();
+    angle[v] += std::atan2(a.cross(b).norm(), a.dot(b));
+  }
+  std::vector<char> tip(n, 0);
+  for (int v = 0; v < n; ++v) tip[v] = !rim[v] && angle[v] < kMaxTipAngle * kPi / 180.0;
+  return tip;
+}
+
+// The corners of fold faces, but for a tip of which fewer than half the faces are
+// folds: a spike's faces face sideways of the surface around it, so one of them can
+// look turned over (the decimated knight's ears, whose tips went first as noise and
+// were cut off: 1.49% of the diagonal from the input over 150 faces at J = 5). A
+// crumple of a scan, whose vertices have small angle sums too, folds most of their faces.
+std::vector<char> foldVertices(const TriMesh& m, const std::vector<char>& foldFace,
+                               const std::vector<char>& tip) {
+  const int n = static_cast<int>(m.V.rows());
+  std::vector<int> faces(n, 0), folded(n, 0);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      ++faces[m.F(f, k)];
+      folded[m.F(f, k)] += foldFace[f];
+    }
+  std::vector<char> fold(n, 0);
+  for (int v = 0; v < n; ++v) fold[v] = folded[v] > 0 && (!tip[v] || 2 * folded[v] >= faces[v]);
+  return fold;
+}
+
 Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySpan) {
   const int n = static_cast<int>(m.V.rows());
   Features out;
   std::vector<Vec3> faceNormals(m.F.rows());
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) faceNormals[f] = faceNormal(m, f);
   const std::vector<char> foldFace = findFoldFaces(m, faceNormals);
-  out.fold.assign(n, 0);
-  for (Eigen::Index f = 0; f < m.F.rows(); ++f)
-    if (foldFace[f])
-      for (int k = 0; k < 3; ++k) out.fold[m.F(f, k)] = 1;
-  // Feature edges: the angle between the normals of their two faces.
   const Connectivity c(m.F, n);
+  out.tip = findTips(m, c);
+  out.fold = foldVertices(m, foldFace, out.tip);
+  for (int v = 0; v < n; ++v) out.tip[v] = out.tip[v] && !out.fold[v];
+  // Feature edges: the angle between the normals of their two faces.
   const double cosLimit = std::cos(featureAngle * kPi / 180.0);
   std::unordered_set<std::uint64_t> sharp;
   for (int h = 0; h < 3 * c.numFaces(); ++h) {
@@ -198,6 +233,12 @@ Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySp
       rim[c.to(h)].push_back(c.from(h));
     }
   markCorners(m.V, rim, boundarySpan, true, out.corner);
+  // Tips stay from the start. Left among the candidates, to be refused one by one as too
+  // curved, their angle defects (the largest of the mesh) set the scale of every other
+  // vertex's curvature in the order of removal, and the curvature counted for little
+  // (the knight over 150 faces at J = 5: 0.72% of the diagonal from the input so, 0.44%
+  // with its 21 tips kept as corners).
+  for (int v = 0; v < n; ++v) out.corner[v] = out.corner[v] || out.tip[v];
   return out;
 }
 

@@ -24,12 +24,19 @@ struct Features {
   /// Corners of fold triangles (facing against their own corners' area-weighted
   /// normals: a sliver turned over onto its neighbour). Noise: removed first.
   std::vector<char> fold;
+  /// Tips of protrusions (an ear, a horn, a finger): interior vertices whose face
+  /// angles sum to under kMaxTipAngle, the sharpest cones no removal could flatten.
+  /// They are corners too, so they stay base vertices, sampled exactly at every level.
+  std::vector<char> tip;
 };
 
 /// Scans carry sharp-looking noise: single edges and short chains of feature edges.
 constexpr int kMinChain = 4;
 /// Largest turn of a feature line or a boundary at a removable vertex, in degrees.
 constexpr double kMaxTurn = 40.0;
+/// Largest sum of face angles at a tip, in degrees: 2 pi over the largest exponent of
+/// the z^a flattening the simplification uses (1.875, simplify.h's kStages).
+constexpr double kMaxTipAngle = 192.0;
 
 /// The features of a valid mesh at `featureAngle` degrees (180: none). A boundary's
 /// turn at a vertex is measured between the points `boundarySpan` away along it on

@@ -50,6 +50,7 @@ class Simplifier {
         features_(features.edges),
         corner_(features.corner),
         fold_(features.fold),
+        tip_(features.tip),
         stages_(stages) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m);
@@ -149,7 +150,7 @@ class Simplifier {
   std::vector<std::vector<int>> vertFaces_, facePoints_, inputFaces_;
   std::vector<Param> param_;
   std::unordered_set<std::uint64_t> features_;
-  std::vector<char> corner_, fold_, removed_;
+  std::vector<char> corner_, fold_, tip_, removed_;
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
   int aliveFaces_ = 0, plans_ = 0;
@@ -245,7 +246,7 @@ bool Simplifier::removable(int v, const Ring& r) const {
   int nf = 0;
   for (int k = 0; k < m + (r.boundary ? 1 : 0); ++k) nf += isFeature(v, r.verts[k]);
   if (r.boundary) return nf == 0 && !corner_[v];
-  return m >= 3 && (nf == 0 || (nf == 2 && !corner_[v]));
+  return m >= 3 && !corner_[v] && (nf == 0 || nf == 2);
 }
 
 bool Simplifier::hasEdge(int a, int b) const {
@@ -356,25 +357,21 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   return !crossesMesh(p);
 }
 
-// The tips of protrusions: interior input vertices whose one-ring's angles sum to under
-// 2 pi / a, a the last stage's largest exponent (the vertices plan() keeps as too
-// curved to flatten), but for a scan's folds, which are removed at any exponent (a
-// crumple's vertices have small angle sums too).
+// The cones of the tips of protrusions (features.h: kept as corners, and too curved for
+// any stage's flattening).
 void Simplifier::markTips(const TriMesh& m) {
   tipCone_.assign(static_cast<std::size_t>(m.V.rows()), {});
   for (int v = 0; v < m.V.rows(); ++v) {
+    if (!tip_[v]) continue;
     std::vector<Sector> cone;
-    double total = 0;
     for (int f : inputFaces_[v]) {
       const int i = m.F(f, 0) == v ? 0 : m.F(f, 1) == v ? 1 : 2;
       const int a = m.F(f, (i + 1) % 3), b = m.F(f, (i + 2) % 3);
       const Vec3 ea = (V_.row(a) - V_.row(v)).transpose(), eb = (V_.row(b) - V_.row(v)).transpose();
       cone.push_back({a, b, angleBetween(ea, eb)});
-      total += cone.back().angle;
     }
     Ring r;
-    if (!fold_[v] && ring(v, r) && !r.boundary && total < 2 * kPi / stages_.back().power)
-      tipCone_[v] = std::move(cone);
+    if (ring(v, r)) tipCone_[v] = std::move(cone);
   }
 }
 
@@ -782,7 +779,8 @@ std::string Simplifier::whyKept() {
       "the input (a vertex whose faces' angles sum to under 192 degrees)",
       "their removal would make the base cross itself",
       "their removal would change the topology (a one-ring of three faces, or not a disc)",
-      "they are corners or ends of feature lines, corners of boundaries, or have over 24 faces",
+      "they are corners or ends of feature lines, corners of boundaries, tips of the input "
+      "(faces' angles summing to under 192 degrees), or have over 24 faces",
       "a feature line through them would keep one face on a side",
       "their one-ring is too curved to flatten (a tip under 192 degrees, or a saddle)"};
   std::string why = "no vertex can be removed: of the " + std::to_string(left) + " left,";
