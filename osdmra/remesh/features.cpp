@@ -151,22 +151,22 @@ void markCorners(const Points& V, const std::vector<std::vector<int>>& along, do
   }
 }
 
-}  // namespace
-
-// Interior vertices whose face angles sum to under kMaxTipAngle.
+// Interior vertices whose face angles sum to under kMaxTipAngle (a vertex of no face is
+// none).
 std::vector<char> findTips(const TriMesh& m, const Connectivity& c) {
   const int n = static_cast<int>(m.V.rows());
   std::vector<double> angle(n, 0.0);
-  std::vector<char> rim(n, 0);
+  std::vector<char> rim(n, 0), used(n, 0);
   for (int h = 0; h < 3 * c.numFaces(); ++h) {
     const int v = c.from(h);
+    used[v] = 1;
     if (c.twin(h) < 0) rim[v] = rim[c.to(h)] = 1;
     const Vec3 a = (m.V.row(c.to(h)) - m.V.row(v)).transpose();
     const Vec3 b = (m.V.row(c.from(Connectivity::prev(h))) - m.V.row(v)).transpose();
     angle[v] += std::atan2(a.cross(b).norm(), a.dot(b));
   }
   std::vector<char> tip(n, 0);
-  for (int v = 0; v < n; ++v) tip[v] = !rim[v] && angle[v] < kMaxTipAngle * kPi / 180.0;
+  for (int v = 0; v < n; ++v) tip[v] = used[v] && !rim[v] && angle[v] < kMaxTipAngle * kPi / 180.0;
   return tip;
 }
 
@@ -188,6 +188,8 @@ std::vector<char> foldVertices(const TriMesh& m, const std::vector<char>& foldFa
   for (int v = 0; v < n; ++v) fold[v] = folded[v] > 0 && (!tip[v] || 2 * folded[v] >= faces[v]);
   return fold;
 }
+
+}  // namespace
 
 Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySpan) {
   const int n = static_cast<int>(m.V.rows());
