@@ -239,7 +239,7 @@ Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySp
   // curved, their angle defects (the largest of the mesh) set the scale of every other
   // vertex's curvature in the order of removal, and the curvature counted for little
   // (the knight over 150 faces at J = 5: 0.72% of the diagonal from the input so, 0.44%
-  // with its 21 tips kept as corners).
+  // with its 23 tips kept as corners).
   for (int v = 0; v < n; ++v) out.corner[v] = out.corner[v] || out.tip[v];
   return out;
 }

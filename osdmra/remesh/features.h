@@ -1,6 +1,6 @@
 // What the simplification must keep of the input (step 1 of remesh.h): feature
-// lines, the corners of lines and boundaries, and a scan's folds (which it removes
-// first).
+// lines, the corners of lines and boundaries, the tips of protrusions, and a scan's
+// folds (which it removes first).
 #pragma once
 
 #include <array>
@@ -19,7 +19,7 @@ struct Features {
   std::vector<std::array<int, 2>> list;  ///< the same edges as vertex pairs
   /// Vertices where a feature line or a boundary turns by more than kMaxTurn (a
   /// boundary: at the scale of detectFeatures' span, one per bend): they stay in the
-  /// base mesh, else a base edge would cut the corner.
+  /// base mesh, else a base edge would cut the corner. Tips (below) are corners too.
   std::vector<char> corner;
   /// Corners of fold triangles (facing against their own corners' area-weighted
   /// normals: a sliver turned over onto its neighbour). Noise: removed first.

@@ -4,7 +4,8 @@
 //
 // 0. The input renumbered along space (mesh/spatial_order.h): faster, and the result
 //    the same for every numbering of the same surface.
-// 1. Features (features.h): feature lines, corners of lines and boundaries, folds.
+// 1. Features (features.h): feature lines, corners of lines and boundaries, tips of
+//    protrusions, folds.
 // 2. Simplification with a parameterisation (simplify.h): vertices removed in rounds
 //    of independent sets, each removal's one-ring flattened and retriangulated so that
 //    the old faces map onto the new ones bijectively, checked for every removal
