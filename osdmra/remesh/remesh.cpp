@@ -129,6 +129,7 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   const Features features =
       detectFeatures(input, options.featureAngle, 0.5 * baseEdgeLength(input, options.baseFaces));
   out.featureEdges = static_cast<int>(features.list.size());
+  out.tips = static_cast<int>(std::count(features.tip.begin(), features.tip.end(), 1));
 
   Simplification s = simplify(input, features, options.baseFaces, progress, kStages,
                               options.baseWithoutNewCrossings);

@@ -85,6 +85,7 @@ struct Remeshing {
   /// clean-up moved (to another point of the input).
   TriMesh base;
   int featureEdges = 0;  ///< input edges taken as features
+  int tips = 0;          ///< input vertices kept as tips of protrusions (features.h)
   /// Why the base has more faces than asked (empty when it has not).
   std::string baseSizeReason;
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)

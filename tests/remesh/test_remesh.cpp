@@ -233,6 +233,7 @@ TEST(Remesh, KeepsTheTipOfAProtrusion) {
     o.baseFaces = baseFaces;
     o.levels = 4;
     const Remeshing r = remesh(input, o);
+    EXPECT_EQ(r.tips, 1);  // the horn's tip, its faces' angles summing to under 192 degrees
     EXPECT_TRUE(keepsTip(r));
     EXPECT_EQ(r.base.F.rows() > baseFaces, !r.baseSizeReason.empty());
     EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
