@@ -163,7 +163,7 @@ std::vector<char> findTips(const TriMesh& m, const Connectivity& c) {
     if (c.twin(h) < 0) rim[v] = rim[c.to(h)] = 1;
     const Vec3 a = (m.V.row(c.to(h)) - m.V.row(v)).transpose();
     const Vec3 b = (m.V.row(c.from(Connectivity::prev(h))) - m.V.row(v)).transpose();
-    angle[v] += std::atan2(a.cross(b).norm(), a.dot(b));
+    angle[v] += angleBetween(a, b);
   }
   std::vector<char> tip(n, 0);
   for (int v = 0; v < n; ++v) tip[v] = used[v] && !rim[v] && angle[v] < kMaxTipAngle * kPi / 180.0;

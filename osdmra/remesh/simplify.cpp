@@ -50,7 +50,6 @@ class Simplifier {
         features_(features.edges),
         corner_(features.corner),
         fold_(features.fold),
-        tip_(features.tip),
         stages_(stages) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m);
@@ -73,7 +72,7 @@ class Simplifier {
     refusedAt_.assign(n, -1);
     refusedStage_.assign(n, -1);
     changedAt_.assign(n, 0);
-    markTips(m);
+    markTips(m, features.tip);
     smallestAngle_.resize(m.F.rows());
     inputFlat_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -117,7 +116,7 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
-  void markTips(const TriMesh& m);
+  void markTips(const TriMesh& m, const std::vector<char>& tip);
   double largestTipShare(int tip, const Plan* p) const;
   bool unbalancesTips(const Plan& p) const;
   using Box = Eigen::AlignedBox3d;
@@ -150,7 +149,7 @@ class Simplifier {
   std::vector<std::vector<int>> vertFaces_, facePoints_, inputFaces_;
   std::vector<Param> param_;
   std::unordered_set<std::uint64_t> features_;
-  std::vector<char> corner_, fold_, tip_, removed_;
+  std::vector<char> corner_, fold_, removed_;
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
   int aliveFaces_ = 0, plans_ = 0;
@@ -359,10 +358,10 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
 
 // The cones of the tips of protrusions (features.h: kept as corners, and too curved for
 // any stage's flattening).
-void Simplifier::markTips(const TriMesh& m) {
+void Simplifier::markTips(const TriMesh& m, const std::vector<char>& tip) {
   tipCone_.assign(static_cast<std::size_t>(m.V.rows()), {});
   for (int v = 0; v < m.V.rows(); ++v) {
-    if (!tip_[v]) continue;
+    if (!tip[v]) continue;
     std::vector<Sector> cone;
     for (int f : inputFaces_[v]) {
       const int i = m.F(f, 0) == v ? 0 : m.F(f, 1) == v ? 1 : 2;
