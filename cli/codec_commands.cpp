@@ -59,12 +59,28 @@ double bitsPerVertex(std::size_t bytes, long long vertices) {
 }  // namespace
 
 int cmdCompress(const Argv& argv) {
-  Args args(
-      "compress", argv,
-      {"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme", "wavelets", "rings",
-       "precision", "tangent-weight", "level-gain", "psnr-measure", "base-faces", "feature-angle",
-       "min-component-faces", "max-faces", "smoothing-sweeps", "samples", "seed"},
-      flags({"remesh"}));
+  Args args("compress", argv,
+            {"output",
+             "psnr",
+             "bits-per-vertex",
+             "bytes",
+             "levels",
+             "scheme",
+             "wavelets",
+             "rings",
+             "precision",
+             "tangent-weight",
+             "level-gain",
+             "psnr-measure",
+             "base-faces",
+             "feature-angle",
+             "min-component-faces",
+             "max-faces",
+             "smoothing-sweeps",
+             "stages",
+             "samples",
+             "seed"},
+            flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");

@@ -89,9 +89,26 @@ void plotSweep(const std::string& csv, const std::string& png, const std::string
 
 int cmdLod(const Argv& argv) {
   Args args("lod", argv,
-            {"levels", "scheme", "wavelets", "rings", "output", "epsilon", "budget", "keep",
-             "importance", "selection", "placement", "metric", "samples", "seed", "base-faces",
-             "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps"},
+            {"levels",
+             "scheme",
+             "wavelets",
+             "rings",
+             "output",
+             "epsilon",
+             "budget",
+             "keep",
+             "importance",
+             "selection",
+             "placement",
+             "metric",
+             "samples",
+             "seed",
+             "base-faces",
+             "feature-angle",
+             "min-component-faces",
+             "max-faces",
+             "smoothing-sweeps",
+             "stages"},
             flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
@@ -103,6 +120,7 @@ int cmdLod(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   InputOptions input = inputOptions(args);
+  input.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");  // the base is the coarse LOD
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
   // remeshes over a half, a quarter and a sixteenth of the budget and keeps the
   // closest level of detail, unless --base-faces fixes the base (and --levels the levels).
@@ -114,6 +132,7 @@ int cmdLod(const Argv& argv) {
   if (input.remesh && budget > 0 && !args.has("base-faces")) {
     BudgetSearchOptions search;
     search.levelsForEachBase = !args.has("levels");
+    search.stagesPerVertex = input.remeshing.stagesPerVertex;
     searched = lodForBudget(in, budget, input, options, search, opt.progress);
     printRemeshWarnings(in, *searched->surface.remeshing);
     x = std::move(searched->lod);
@@ -170,7 +189,7 @@ int cmdSweep(const Argv& argv) {
   Args args("sweep", argv,
             {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
              "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle",
-             "min-component-faces", "max-faces", "smoothing-sweeps"},
+             "min-component-faces", "max-faces", "smoothing-sweeps", "stages"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
@@ -178,7 +197,9 @@ int cmdSweep(const Argv& argv) {
   const std::string plot = args.get("plot");
   const int points = static_cast<int>(args.integer("points", 24, 2, 1000));
   const AnalysisOptions options = analysisOptions(args, kSweepDefaults);
-  const LoadedSurface s = loadInput(in, args, opt);
+  InputOptions input = inputOptions(args);
+  input.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");  // as lod
+  const LoadedSurface s = loadInput(in, input, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const SweepTable t = sweepTable(a, points, distanceOptions(args), opt.progress);
   writeTextFile(csv, t.csv);

@@ -62,9 +62,11 @@ commands:
                                with as many levels, up to 5, as keep the remeshing
                                within 2^19 faces, unless --levels); the remeshing
                                and the level of detail's distance to the input as
-                               given are reported apart
+                               given are reported apart; lod and sweep remesh
+                               with --stages vertex (see remesh)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
+                 [--stages mesh|vertex]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -79,6 +81,10 @@ commands:
                                larger than asked is split fewer times, keeping the
                                output within M faces; S sweeps (default 10, 0:
                                none) lower the parameterisation's stretch first;
+                               --stages vertex relaxes the simplification's
+                               limits vertex by vertex, for those passed over for
+                               more important ones (a base closer to the input,
+                               a more distorted map; default mesh: mesh-wide);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -1,6 +1,6 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
-// --max-faces, --smoothing-sweeps) and those of the distance it reports (--samples,
-// --seed), read the same way by the tool and the viewer.
+// --max-faces, --smoothing-sweeps, --stages) and those of the distance it reports
+// (--samples, --seed), read the same way by the tool and the viewer.
 #pragma once
 
 #include "args.h"
@@ -8,6 +8,15 @@
 #include "osdmra/remesh/remesh.h"
 
 namespace osdmra::cli {
+
+// --stages mesh|vertex (RemeshOptions::stagesPerVertex); `fallback` is the command's
+// default: vertex for the levels of detail (lod, sweep, the viewer), mesh elsewhere.
+inline bool stagesPerVertex(const Args& args, const std::string& fallback) {
+  const std::string s = args.get("stages", fallback);
+  if (s != "mesh" && s != "vertex")
+    throw Error("--stages: expected mesh or vertex, got '" + s + "'");
+  return s == "vertex";
+}
 
 inline RemeshOptions remeshOptions(const Args& args) {
   RemeshOptions o;
@@ -17,6 +26,7 @@ inline RemeshOptions remeshOptions(const Args& args) {
   o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
   o.smoothingSweeps =
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
+  o.stagesPerVertex = stagesPerVertex(args, "mesh");
   return o;
 }
 

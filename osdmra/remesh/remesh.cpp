@@ -132,7 +132,7 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   out.tips = static_cast<int>(std::count(features.tip.begin(), features.tip.end(), 1));
 
   Simplification s = simplify(input, features, options.baseFaces, progress, kStages,
-                              options.baseWithoutNewCrossings);
+                              options.baseWithoutNewCrossings, options.stagesPerVertex);
   out.base = s.base;
   out.simplificationRounds = s.rounds;
   out.simplificationStage = s.stage;

@@ -44,13 +44,14 @@ struct Plan {
 class Simplifier {
  public:
   Simplifier(const TriMesh& m, const Features& features, const std::vector<StageLimits>& stages,
-             bool noNewCrossings)
+             bool noNewCrossings, bool stagesPerVertex)
       : V_(m.V),
         noNewCrossings_(noNewCrossings),
         features_(features.edges),
         corner_(features.corner),
         fold_(features.fold),
-        stages_(stages) {
+        stages_(stages),
+        stagesPerVertex_(stagesPerVertex) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m);
     faces_.reserve(2 * m.F.rows());
@@ -71,6 +72,7 @@ class Simplifier {
     aroundOf_.resize(n);
     refusedAt_.assign(n, -1);
     refusedStage_.assign(n, -1);
+    ownStage_.assign(n, 0);
     changedAt_.assign(n, 0);
     markTips(m, features.tip);
     smallestAngle_.resize(m.F.rows());
@@ -129,7 +131,11 @@ class Simplifier {
   void markChanged(const Ring& ring);
   bool refusedAndUnchanged(int v) const;
   std::string whyKept();
-  const StageLimits& limits() const { return stages_[stage_]; }
+  // The stage whose limits a removal of v meets: the mesh's, or v's own where v was
+  // passed over for more important removals (stagesPerVertex).
+  std::size_t stageOf(int v) const { return std::max(stage_, std::size_t{ownStage_[v]}); }
+  const StageLimits& limits() const { return stages_[stageOf(planning_)]; }
+  void relaxPassedOver(const std::vector<int>& passedOver);
 
   const Points& V_;
   bool noNewCrossings_ = false;
@@ -152,6 +158,9 @@ class Simplifier {
   std::vector<char> corner_, fold_, removed_;
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
+  bool stagesPerVertex_ = false;
+  std::vector<unsigned char> ownStage_;  // per vertex, under stagesPerVertex_
+  int planning_ = 0;                     // the vertex plan() works on
   int aliveFaces_ = 0, plans_ = 0;
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
@@ -259,6 +268,7 @@ bool Simplifier::hasEdge(int a, int b) const {
 // the points of the old faces are placed in the new ones and the distortion checked.
 bool Simplifier::plan(int v, const Ring& around, Plan& p) {
   ++plansMade_;
+  planning_ = v;
   p.ring = around;  // into the plan's lists, kept from plan to plan
   Ring& r = p.ring;
   refusal_ = kCorner;
@@ -680,7 +690,7 @@ void Simplifier::markChanged(const Ring& ring) {
 // were most of the simplification (beetle-alt: 162,862 plans for 19,000 removals over
 // 155 rounds).
 bool Simplifier::refusedAndUnchanged(int v) const {
-  return refusedAt_[v] >= 0 && refusedStage_[v] == static_cast<int>(stage_) &&
+  return refusedAt_[v] >= 0 && refusedStage_[v] == static_cast<int>(stageOf(v)) &&
          changedAt_[v] <= refusedAt_[v];
 }
 
@@ -709,6 +719,9 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
   });
   std::vector<int> stamp(V_.rows(), -1);
   int removedNow = 0;
+  // Refused under the limits of their stage (not for topology, features or tips), and
+  // those of them after which a more important removal was made.
+  std::vector<int> refusedNow, passedOver;
   Ring r;  // the ring and the plan keep their lists from candidate to candidate
   Plan p;
   for (const auto& entry : order) {
@@ -721,18 +734,33 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
       // A crossing depends on faces near in space, not in the mesh: planned again.
       if (!disc || refusal_ != kCrossing) {
         refusedAt_[v] = removalsMade_;
-        refusedStage_[v] = static_cast<int>(stage_);
+        refusedStage_[v] = static_cast<int>(stageOf(v));
       }
+      if (disc && (refusal_ == kShape || refusal_ == kDistortion || refusal_ == kCurved))
+        refusedNow.push_back(v);
       continue;
     }
     commit(v, p);
+    passedOver.insert(passedOver.end(), refusedNow.begin(), refusedNow.end());
+    refusedNow.clear();
     markChanged(p.ring);
     ++removedNow;
     for (int w : p.ring.verts) stamp[w] = round;
     if (progress && removedNow % 1024 == 0)
       progress("simplify", double(start - aliveFaces_) / std::max(1, start - target));
   }
+  if (stagesPerVertex_) relaxPassedOver(passedOver);
   return removedNow;
+}
+
+// Each vertex that its stage's limits kept while a more important one went goes on
+// under the next stage's: the order of removal follows importance, not which removals
+// the strictest limits allow. Mesh-wide, a refused vertex waits until no vertex at all
+// can go, and the target is reached by removing the important ones instead (the camel
+// head's 1% base kept its mouth and ear and lost its skull's curvature).
+void Simplifier::relaxPassedOver(const std::vector<int>& passedOver) {
+  for (int v : passedOver)
+    ownStage_[v] = static_cast<unsigned char>(std::min(stages_.size() - 1, stageOf(v) + 1));
 }
 
 void Simplifier::run(int target, const Progress& progress, Simplification& out) {
@@ -861,8 +889,8 @@ SurfacePoint traceToInput(const History& h, int baseFace, const std::array<doubl
 
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
                         const Progress& progress, const std::vector<StageLimits>& stages,
-                        bool noNewCrossings) {
-  Simplifier s(input, features, stages, noNewCrossings);
+                        bool noNewCrossings, bool stagesPerVertex) {
+  Simplifier s(input, features, stages, noNewCrossings, stagesPerVertex);
   Simplification out;
   s.run(targetFaces, progress, out);
   s.result(out);

@@ -5,7 +5,8 @@
 // refused; so is one that would make the mesh cross itself (noNewCrossings) or leave
 // one face around the tip of a protrusion of the input holding more than half of the
 // tip's cone (the grid would sample the tip from that face's corner alone, and fold
-// there). The bounds relax in stages only when nothing can go under the current ones.
+// there). The bounds relax in stages only when nothing can go under the current ones,
+// or, as an option, vertex by vertex for those passed over for more important ones.
 #pragma once
 
 #include <array>
@@ -103,9 +104,13 @@ struct Simplification {
 /// allow.
 /// `noNewCrossings`: refuse a removal whose new faces would cross a live face of the
 /// mesh (RemeshOptions::baseWithoutNewCrossings).
+/// `stagesPerVertex`: a vertex refused under its stage's limits in a round where a more
+/// important vertex is removed after it goes on under the next stage's limits, alone
+/// (RemeshOptions::stagesPerVertex); otherwise the stages move for the whole mesh, only
+/// when no vertex can be removed.
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
                         const Progress& progress = {},
                         const std::vector<StageLimits>& stages = kStages,
-                        bool noNewCrossings = false);
+                        bool noNewCrossings = false, bool stagesPerVertex = false);
 
 }  // namespace osdmra::remeshing

@@ -149,6 +149,78 @@ TEST(Simplify, SliversCanBeExemptFromTheAnisotropyBound) {
   for (std::size_t k = 0; k + 1 < kStages.size(); ++k) EXPECT_EQ(kStages[k].sliverAngle, 0.0);
 }
 
+namespace {
+
+// A flat strip, rows 1 apart: on the left columns 1 apart (right triangles), on the
+// right `fine` apart (slivers of about 6 degrees for 0.1).
+TriMesh strip(int left, int right, int rows, double fine) {
+  std::vector<double> xs;
+  for (int i = 0; i <= left; ++i) xs.push_back(i);
+  for (int i = 1; i <= right; ++i) xs.push_back(left + i * fine);
+  const int nx = static_cast<int>(xs.size()), ny = rows + 1;
+  TriMesh m;
+  m.V.resize(nx * ny, 3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) m.V.row(j * nx + i) << xs[i], j, 0;
+  m.F.resize(2 * (nx - 1) * rows, 3);
+  int f = 0;
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const int a = j * nx + i, b = a + 1, c = a + nx, d = c + 1;
+      m.F.row(f++) << a, b, d;
+      m.F.row(f++) << a, d, c;
+    }
+  validate(m, "strip");
+  return m;
+}
+
+int verticesRightOf(const TriMesh& m, double x) {
+  int n = 0;
+  for (Eigen::Index v = 0; v < m.V.rows(); ++v) n += m.V(v, 0) > x;
+  return n;
+}
+
+}  // namespace
+
+TEST(Simplify, StagesPerVertexRelaxOnlyTheVerticesPassedOver) {
+  // The first stage's 20-degree bound refuses most removals among the slivers on the
+  // right, where one-rings are smallest and so tried first. Mesh-wide, they wait for
+  // the second stage while the left half goes: the base's vertices crowd the right, a
+  // third of the strip. Vertex by vertex, those passed over for removals on the left go
+  // on under the second stage: the base spreads, still a bijection of the input's
+  // topology, and the mesh's own stage never moves.
+  const TriMesh input = strip(12, 60, 12, 0.1);
+  const std::vector<StageLimits> stages = {{2, 20, 1.5}, {4, 5, 1.5}};
+  const Features features = detectFeatures(input, 70.0);
+  const Simplification meshWide = simplify(input, features, 80, {}, stages, false, false);
+  const Simplification perVertex = simplify(input, features, 80, {}, stages, false, true);
+  EXPECT_LE(meshWide.base.F.rows(), 80);
+  EXPECT_LE(perVertex.base.F.rows(), 80);
+  EXPECT_GT(perVertex.base.F.rows(), 70);
+  EXPECT_EQ(perVertex.stage, 0);
+  const int crowded = verticesRightOf(meshWide.base, 12.5);
+  const int spread = verticesRightOf(perVertex.base, 12.5);
+  EXPECT_GT(crowded, 0.85 * static_cast<double>(meshWide.base.V.rows()));
+  EXPECT_LT(spread, crowded - 4);
+  EXPECT_EQ(topology(perVertex.base), topology(input));
+  for (const Param& p : perVertex.params) {
+    ASSERT_GE(p.face, 0);
+    EXPECT_GE(minOf(p.bary), 0.0);
+  }
+  int inside = 0;
+  for (int t = 0; t < input.F.rows(); ++t) {
+    std::array<Vec2, 3> image;
+    if (!imageIn(input, perVertex, t, image)) continue;
+    ++inside;
+    EXPECT_GT(cross2(image[1] - image[0], image[2] - image[0]), 0) << "input triangle " << t;
+  }
+  EXPECT_GT(inside, input.F.rows() / 8);  // the others straddle base faces
+  // With one stage there is nothing to relax to: the same base either way.
+  const std::vector<StageLimits> one = {stages[0]};
+  EXPECT_EQ(simplify(input, features, 80, {}, one, false, true).base.F,
+            simplify(input, features, 80, {}, one, false, false).base.F);
+}
+
 TEST(Simplify, TracingBackIsTheExactInverse) {
   // Every input vertex's place on the base, traced back through the removals, lands on
   // that vertex: the map and its inverse compose to the identity.
