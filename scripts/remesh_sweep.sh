@@ -7,7 +7,8 @@
 # components were kept, and the time of remesh().
 #
 #   scripts/remesh_sweep.sh [BUILD_DIR] [SIZES] [LEVELS]
-#   (defaults: build, "150 300 600", "4 5"; $MESHES: names to run, default all)
+#   (defaults: build, "150 300 600", "4 5"; $MESHES: names to run, default all;
+#   $REMESH_ARGS: further options of every remeshing, e.g. "--stages vertex")
 set -eu
 build=${1:-build}
 sizes=${2:-150 300 600}
@@ -34,7 +35,9 @@ for path in "$scans"/*.obj "$scans"/*.off "$scans"/*.ply; do
   rm -f "$clean"
   for n in $sizes; do
     for J in $levels; do
-      json=$("$build/osdmra" remesh "$path" --base-faces "$n" --levels "$J" -o "$out" --json)
+      # shellcheck disable=SC2086 # REMESH_ARGS is a list of options
+      json=$("$build/osdmra" remesh "$path" --base-faces "$n" --levels "$J" ${REMESH_ARGS:-} \
+        -o "$out" --json)
       topo_out=$("$build/osdmra" info "$out" --json)
       python3 -c "
 import json, sys
