@@ -161,6 +161,7 @@ class Simplifier {
   bool stagesPerVertex_ = false;
   std::vector<unsigned char> ownStage_;  // per vertex, under stagesPerVertex_
   int planning_ = 0;                     // the vertex plan() works on
+  std::size_t stageUsed_ = 0;            // the last stage a removal was made under
   int aliveFaces_ = 0, plans_ = 0;
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
@@ -741,6 +742,7 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
       continue;
     }
     commit(v, p);
+    stageUsed_ = std::max(stageUsed_, stageOf(v));
     passedOver.insert(passedOver.end(), refusedNow.begin(), refusedNow.end());
     refusedNow.clear();
     markChanged(p.ring);
@@ -774,7 +776,7 @@ void Simplifier::run(int target, const Progress& progress, Simplification& out) 
     ++stage_;  // nothing can go under these limits: relax them
   }
   out.rounds = round;
-  out.stage = static_cast<int>(stage_);
+  out.stage = static_cast<int>(std::max(stage_, stageUsed_));
   if (aliveFaces_ > target) out.stopReason = whyKept();
   if (progress) progress("simplify", 1.0);
 }

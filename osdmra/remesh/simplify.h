@@ -95,7 +95,7 @@ struct Simplification {
   /// Feature edges of the base, as keys of their input vertices (features.h).
   std::unordered_set<std::uint64_t> featureEdges;
   int rounds = 0;  ///< rounds of independent removals
-  int stage = 0;   ///< the last stage of kStages used
+  int stage = 0;   ///< the last stage of kStages used (by the mesh, or by one vertex)
   /// Why the base has more faces than asked, if it has: empty otherwise.
   std::string stopReason;
 };
