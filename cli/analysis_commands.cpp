@@ -47,7 +47,8 @@ void printAnalysis(const std::string& in, const std::string& out, const LoadedSu
 int cmdAnalyze(const Argv& argv) {
   Args args("analyze", argv,
             {"levels", "scheme", "wavelets", "rings", "output", "base-faces", "feature-angle",
-             "min-component-faces", "max-faces", "smoothing-sweeps", "stages", "samples", "seed"},
+             "min-component-faces", "max-faces", "smoothing-sweeps", "stages", "retriangulation",
+             "samples", "seed"},
             flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra analyze IN -o OUT.mra");
   const Common opt = common(args);

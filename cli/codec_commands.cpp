@@ -78,6 +78,7 @@ int cmdCompress(const Argv& argv) {
              "max-faces",
              "smoothing-sweeps",
              "stages",
+             "retriangulation",
              "samples",
              "seed"},
             flags({"remesh"}));

@@ -108,7 +108,8 @@ int cmdLod(const Argv& argv) {
              "min-component-faces",
              "max-faces",
              "smoothing-sweeps",
-             "stages"},
+             "stages",
+             "retriangulation"},
             flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
@@ -120,7 +121,10 @@ int cmdLod(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   InputOptions input = inputOptions(args);
-  input.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");  // the base is the coarse LOD
+  // The base is the level of detail's coarsest level: chosen as close to the input as
+  // the remesher can (BudgetSearchOptions).
+  input.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");
+  input.remeshing.retriangulateByError = retriangulateByError(args, "error");
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
   // remeshes over a half, a quarter and a sixteenth of the budget and keeps the
   // closest level of detail, unless --base-faces fixes the base (and --levels the levels).
@@ -133,6 +137,7 @@ int cmdLod(const Argv& argv) {
     BudgetSearchOptions search;
     search.levelsForEachBase = !args.has("levels");
     search.stagesPerVertex = input.remeshing.stagesPerVertex;
+    search.retriangulateByError = input.remeshing.retriangulateByError;
     searched = lodForBudget(in, budget, input, options, search, opt.progress);
     printRemeshWarnings(in, *searched->surface.remeshing);
     x = std::move(searched->lod);
@@ -186,10 +191,16 @@ int cmdLod(const Argv& argv) {
 }
 
 int cmdSweep(const Argv& argv) {
-  Args args("sweep", argv,
-            {"levels", "scheme", "wavelets", "rings", "csv", "plot", "points", "importance",
-             "selection", "placement", "metric", "samples", "seed", "base-faces", "feature-angle",
-             "min-component-faces", "max-faces", "smoothing-sweeps", "stages"},
+  Args args("sweep", argv, {"levels",        "scheme",
+                            "wavelets",      "rings",
+                            "csv",           "plot",
+                            "points",        "importance",
+                            "selection",     "placement",
+                            "metric",        "samples",
+                            "seed",          "base-faces",
+                            "feature-angle", "min-component-faces",
+                            "max-faces",     "smoothing-sweeps",
+                            "stages",        "retriangulation"},
             flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
@@ -199,6 +210,7 @@ int cmdSweep(const Argv& argv) {
   const AnalysisOptions options = analysisOptions(args, kSweepDefaults);
   InputOptions input = inputOptions(args);
   input.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");  // as lod
+  input.remeshing.retriangulateByError = retriangulateByError(args, "error");
   const LoadedSurface s = loadInput(in, input, opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const SweepTable t = sweepTable(a, points, distanceOptions(args), opt.progress);

@@ -63,10 +63,11 @@ commands:
                                within 2^19 faces, unless --levels); the remeshing
                                and the level of detail's distance to the input as
                                given are reported apart; lod and sweep remesh
-                               with --stages vertex (see remesh)
+                               with --stages vertex --retriangulation error
+                               (see remesh)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
-                 [--stages mesh|vertex]
+                 [--stages mesh|vertex] [--retriangulation shape|error]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -85,6 +86,10 @@ commands:
                                limits vertex by vertex, for those passed over for
                                more important ones (a base closer to the input,
                                a more distorted map; default mesh: mesh-wide);
+                               --retriangulation error fills each removed
+                               vertex's ring by the error made, as a quadric
+                               simplifier would (default shape: by the faces'
+                               shape first);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -105,7 +105,7 @@ int cmdShape(const Argv& argv) {
 int cmdRemesh(const Argv& argv) {
   Args args("remesh", argv,
             {"base-faces", "levels", "feature-angle", "min-component-faces", "max-faces",
-             "smoothing-sweeps", "stages", "output", "samples", "seed"},
+             "smoothing-sweeps", "stages", "retriangulation", "output", "samples", "seed"},
             flags());
   args.expectPositional(1, "one input mesh: osdmra remesh IN --base-faces N --levels J -o OUT");
   const Common opt = common(args);

@@ -1,6 +1,7 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
-// --max-faces, --smoothing-sweeps, --stages) and those of the distance it reports
-// (--samples, --seed), read the same way by the tool and the viewer.
+// --max-faces, --smoothing-sweeps, --stages, --retriangulation) and those of the
+// distance it reports (--samples, --seed), read the same way by the tool and the
+// viewer.
 #pragma once
 
 #include "args.h"
@@ -18,6 +19,15 @@ inline bool stagesPerVertex(const Args& args, const std::string& fallback) {
   return s == "vertex";
 }
 
+// --retriangulation shape|error (RemeshOptions::retriangulateByError); `fallback` as
+// for --stages.
+inline bool retriangulateByError(const Args& args, const std::string& fallback) {
+  const std::string s = args.get("retriangulation", fallback);
+  if (s != "shape" && s != "error")
+    throw Error("--retriangulation: expected shape or error, got '" + s + "'");
+  return s == "error";
+}
+
 inline RemeshOptions remeshOptions(const Args& args) {
   RemeshOptions o;
   o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
@@ -27,6 +37,7 @@ inline RemeshOptions remeshOptions(const Args& args) {
   o.smoothingSweeps =
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
   o.stagesPerVertex = stagesPerVertex(args, "mesh");
+  o.retriangulateByError = retriangulateByError(args, "shape");
   return o;
 }
 

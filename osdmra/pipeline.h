@@ -257,6 +257,9 @@ struct BudgetSearchOptions {
   /// coarse levels of a level of detail are the base, which then spreads by importance
   /// (on the 48 rows of docs/LOD.md, RMS at most meshoptimizer's on 38 instead of 35).
   bool stagesPerVertex = true;
+  /// Remesh with RemeshOptions::retriangulateByError on, whatever InputOptions say: the
+  /// base's faces chosen by the error they make.
+  bool retriangulateByError = true;
 };
 
 /// One base size lodForBudget tried.

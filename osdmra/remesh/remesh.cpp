@@ -131,8 +131,11 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   out.featureEdges = static_cast<int>(features.list.size());
   out.tips = static_cast<int>(std::count(features.tip.begin(), features.tip.end(), 1));
 
-  Simplification s = simplify(input, features, options.baseFaces, progress, kStages,
-                              options.baseWithoutNewCrossings, options.stagesPerVertex);
+  SimplifyOptions how;
+  how.noNewCrossings = options.baseWithoutNewCrossings;
+  how.stagesPerVertex = options.stagesPerVertex;
+  how.retriangulateByError = options.retriangulateByError;
+  Simplification s = simplify(input, features, options.baseFaces, progress, kStages, how);
   out.base = s.base;
   out.simplificationRounds = s.rounds;
   out.simplificationStage = s.stage;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "osdmra/geometry/face_grid.h"
+#include "osdmra/geometry/quadric.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/removal.h"
@@ -44,14 +45,14 @@ struct Plan {
 class Simplifier {
  public:
   Simplifier(const TriMesh& m, const Features& features, const std::vector<StageLimits>& stages,
-             bool noNewCrossings, bool stagesPerVertex)
+             const SimplifyOptions& options)
       : V_(m.V),
-        noNewCrossings_(noNewCrossings),
+        noNewCrossings_(options.noNewCrossings),
         features_(features.edges),
         corner_(features.corner),
         fold_(features.fold),
         stages_(stages),
-        stagesPerVertex_(stagesPerVertex) {
+        stagesPerVertex_(options.stagesPerVertex) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m);
     faces_.reserve(2 * m.F.rows());
@@ -75,6 +76,7 @@ class Simplifier {
     ownStage_.assign(n, 0);
     changedAt_.assign(n, 0);
     markTips(m, features.tip);
+    if (options.retriangulateByError) quadric_ = vertexQuadrics(m);
     smallestAngle_.resize(m.F.rows());
     inputFlat_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -116,6 +118,9 @@ class Simplifier {
   bool hasEdge(int a, int b) const;
   bool plan(int v, const Ring& around, Plan& p);
   bool tryTriangulation(int v, Plan& p, double& worst);
+  bool tryByError(int v, Plan& p);
+  double triangulationError(int v, const Plan& p) const;
+  void passOnQuadric(int v, const Ring& ring);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
   void markTips(const TriMesh& m, const std::vector<char>& tip);
@@ -165,6 +170,9 @@ class Simplifier {
   int aliveFaces_ = 0, plans_ = 0;
   int refusal_ = kShape;
   std::vector<int> movedStamp_, movedIndex_;
+  // SimplifyOptions::retriangulateByError: per vertex, the planes it stands for (empty
+  // otherwise).
+  std::vector<Quadric> quadric_;
   std::vector<double> smallestAngle_;  // per input face, degrees
   // Per input face, laid flat once: distortion() measures each against its chart image
   // in many plans, and the input never moves.
@@ -303,6 +311,7 @@ bool Simplifier::plan(int v, const Ring& around, Plan& p) {
     refusal_ = kCurved;
     return false;
   }
+  if (!quadric_.empty()) return tryByError(v, p);
   // The ear clipping's triangulation first; where it is refused, the fans from each
   // corner (a ring without a feature line) before the removal is deferred.
   double worst = 0;
@@ -327,6 +336,67 @@ bool Simplifier::plan(int v, const Ring& around, Plan& p) {
     if (tryTriangulation(v, p, worst)) return true;
   }
   return false;
+}
+
+// The squared distance, in v's planes (its quadric), from v's place in the flattened
+// ring to the retriangulated surface there: where the new faces cut across the surface
+// v stood for, v's planes are far from them. v's place is the origin; a boundary
+// vertex's may lie beyond the new faces (its ring's boundary is straightened), and is
+// then taken in the nearest one.
+double Simplifier::triangulationError(int v, const Plan& p) const {
+  double bestMin = -std::numeric_limits<double>::infinity();
+  std::array<double, 3> bary{};
+  const std::array<int, 3>* at = nullptr;
+  for (const auto& t : p.triangles) {
+    const Vec2 a = p.flat.points[t[0]], b = p.flat.points[t[1]], c = p.flat.points[t[2]];
+    const double area = cross2(b - a, c - a);
+    if (!(std::abs(area) > 0)) continue;
+    const std::array<double, 3> w = {cross2(b, c) / area, cross2(c, a) / area, cross2(a, b) / area};
+    const double least = std::min({w[0], w[1], w[2]});
+    if (least > bestMin) {
+      bestMin = least;
+      bary = w;
+      at = &t;
+    }
+  }
+  if (!at) return std::numeric_limits<double>::infinity();
+  double sum = 0;
+  for (double& w : bary) sum += (w = std::max(w, 0.0));
+  Vec3 q = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) q += bary[i] / sum * V_.row(p.vertex((*at)[i])).transpose();
+  return quadric_[v](q);
+}
+
+// SimplifyOptions::retriangulateByError: the candidate retriangulations in order of
+// the error they make, the first certified one kept.
+bool Simplifier::tryByError(int v, Plan& p) {
+  std::vector<std::pair<double, std::vector<std::array<int, 3>>>> tries;
+  tries.emplace_back(0, triangulateRing(p.flat.points, p.ring.boundary, p.featureAt));
+  const int numPoints = static_cast<int>(p.flat.points.size());
+  const int corners = p.ring.boundary ? numPoints : numPoints - 1;
+  if (p.featureAt < 0 && corners > 3)
+    for (int from = 0; from < corners; ++from)
+      tries.emplace_back(0, fanOfRing(from, numPoints, p.ring.boundary));
+  for (auto& t : tries) {
+    p.triangles = t.second;
+    t.first = triangulationError(v, p);
+  }
+  std::stable_sort(tries.begin(), tries.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  double worst = 0;
+  for (const auto& t : tries) {
+    p.triangles = t.second;
+    if (tryTriangulation(v, p, worst)) return true;
+  }
+  if (corners <= 3 && p.featureAt < 0) refusal_ = kTopology;
+  return false;
+}
+
+// A removed vertex's planes go to its ring, shared out evenly, so that the quadrics'
+// sum stays the input's and later removals there answer for what this one smoothed.
+void Simplifier::passOnQuadric(int v, const Ring& ring) {
+  const int n = ring.boundary ? ring.numFaces() + 1 : ring.numFaces();
+  for (int k = 0; k < n; ++k) quadric_[ring.verts[k]].add(quadric_[v], 1.0 / n);
 }
 
 // Whether the plan's triangulation is certified (removal.h), well shaped in the
@@ -630,6 +700,7 @@ void Simplifier::commit(int v, const Plan& p) {
   }
   for (int f : p.ring.faces) std::vector<int>().swap(facePoints_[f]);
   removed_[v] = 1;
+  if (!quadric_.empty()) passOnQuadric(v, p.ring);
   if (p.featureAt >= 0) {
     features_.erase(edgeKey(v, p.ring.verts[0]));
     features_.erase(edgeKey(v, p.ring.verts[p.featureAt]));
@@ -891,8 +962,8 @@ SurfacePoint traceToInput(const History& h, int baseFace, const std::array<doubl
 
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
                         const Progress& progress, const std::vector<StageLimits>& stages,
-                        bool noNewCrossings, bool stagesPerVertex) {
-  Simplifier s(input, features, stages, noNewCrossings, stagesPerVertex);
+                        const SimplifyOptions& options) {
+  Simplifier s(input, features, stages, options);
   Simplification out;
   s.run(targetFaces, progress, out);
   s.result(out);

@@ -100,17 +100,31 @@ struct Simplification {
   std::string stopReason;
 };
 
+/// How simplify() goes about it, beyond its stages.
+struct SimplifyOptions {
+  /// Refuse a removal whose new faces would cross a live face of the mesh
+  /// (RemeshOptions::baseWithoutNewCrossings).
+  bool noNewCrossings = false;
+  /// A vertex refused under its stage's limits in a round where a more important vertex
+  /// is removed after it goes on under the next stage's limits, alone
+  /// (RemeshOptions::stagesPerVertex); otherwise the stages move for the whole mesh, only
+  /// when no vertex can be removed.
+  bool stagesPerVertex = false;
+  /// Try each removal's retriangulations (the ear clipping, and the fans from each
+  /// corner of a ring without a feature line: a fan is the collapse of the removed vertex
+  /// into that corner) in order of the error they make at the removed vertex's place,
+  /// measured by the quadric of the input's planes it stands for (quadric.h: its own
+  /// faces', and a share of those of the vertices removed into its ring before it);
+  /// otherwise the ear clipping first, then the fans from the corners of lowest valence
+  /// (RemeshOptions::retriangulateByError).
+  bool retriangulateByError = false;
+};
+
 /// Simplifies a valid mesh to at most `targetFaces` faces, or as far as the stages
 /// allow.
-/// `noNewCrossings`: refuse a removal whose new faces would cross a live face of the
-/// mesh (RemeshOptions::baseWithoutNewCrossings).
-/// `stagesPerVertex`: a vertex refused under its stage's limits in a round where a more
-/// important vertex is removed after it goes on under the next stage's limits, alone
-/// (RemeshOptions::stagesPerVertex); otherwise the stages move for the whole mesh, only
-/// when no vertex can be removed.
 Simplification simplify(const TriMesh& input, const Features& features, int targetFaces,
                         const Progress& progress = {},
                         const std::vector<StageLimits>& stages = kStages,
-                        bool noNewCrossings = false, bool stagesPerVertex = false);
+                        const SimplifyOptions& options = {});
 
 }  // namespace osdmra::remeshing

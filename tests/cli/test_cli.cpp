@@ -351,6 +351,12 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(stages.err.find("--stages: expected mesh or vertex, got 'edge'"), std::string::npos)
       << stages.err;
   EXPECT_FALSE(fs::exists(path("n.ply")));
+  const Result how = run("remesh " + path("t3.obj") + " --retriangulation fan -o " + path("n.ply"));
+  EXPECT_NE(how.status, 0);
+  EXPECT_NE(how.err.find("--retriangulation: expected shape or error, got 'fan'"),
+            std::string::npos)
+      << how.err;
+  EXPECT_FALSE(fs::exists(path("n.ply")));
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.
@@ -426,16 +432,16 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
   // Without --levels too, each base gets as many levels as keep its remeshing within
   // --max-faces (2^19 by default, the remesher's 5 levels over 300 faces; 5 over 50),
-  // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 28
-  // faces the torus keeps for the 12 asked (12 * 4^4 would fit; 48 kept before lod
-  // relaxed the simplification's stages vertex by vertex).
+  // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 44
+  // faces the torus keeps for the 12 asked (12 * 4^4 would fit; the remesher's own
+  // defaults keep 48, lod's stages per vertex and retriangulation by error 44).
   const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --max-faces 3200 " +
                             "--samples 500 --json -o " + path("l.obj"));
   ASSERT_EQ(levels.status, 0) << levels.err;
   EXPECT_NE(levels.out.find("{\"base_faces_asked\": 50, \"base_faces\": 50, \"levels\": 3,"),
             std::string::npos)
       << levels.out;
-  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 12, \"base_faces\": 28, \"levels\": 3,"),
+  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 12, \"base_faces\": 44, \"levels\": 3,"),
             std::string::npos)
       << levels.out;
   // A torus cannot be remeshed over the 4 faces a budget of 8 asks for: the

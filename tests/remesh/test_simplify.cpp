@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "osdmra/geometry/distance.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/distortion.h"
@@ -197,8 +198,8 @@ TEST(Simplify, StagesPerVertexRelaxOnlyTheVerticesPassedOver) {
   const TriMesh input = strip(12, 60, 12, 0.1);
   const std::vector<StageLimits> stages = {{2, 20, 1.5}, {4, 5, 1.5}};
   const Features features = detectFeatures(input, 70.0);
-  const Simplification meshWide = simplify(input, features, 80, {}, stages, false, false);
-  const Simplification perVertex = simplify(input, features, 80, {}, stages, false, true);
+  const Simplification meshWide = simplify(input, features, 80, {}, stages, {false, false});
+  const Simplification perVertex = simplify(input, features, 80, {}, stages, {false, true});
   EXPECT_LE(meshWide.base.F.rows(), 80);
   EXPECT_LE(perVertex.base.F.rows(), 80);
   EXPECT_GT(perVertex.base.F.rows(), 70);
@@ -211,8 +212,37 @@ TEST(Simplify, StagesPerVertexRelaxOnlyTheVerticesPassedOver) {
   expectBijection(input, perVertex, static_cast<int>(input.F.rows() / 8));  // others straddle
   // With one stage there is nothing to relax to: the same base either way.
   const std::vector<StageLimits> one = {stages[0]};
-  EXPECT_EQ(simplify(input, features, 80, {}, one, false, true).base.F,
-            simplify(input, features, 80, {}, one, false, false).base.F);
+  EXPECT_EQ(simplify(input, features, 80, {}, one, {false, true}).base.F,
+            simplify(input, features, 80, {}, one, {false, false}).base.F);
+}
+
+TEST(Simplify, RetriangulatingByErrorBringsTheBaseCloser) {
+  // Each removal's ring filled by the retriangulation that strays least from the planes
+  // the removed vertex stands for (a fan from a corner being the collapse into it), as a
+  // quadric simplifier chooses: on smooth shapes of every genus here, the base comes
+  // closer to the input (6-40% lower RMS at a tenth and a thirtieth of the faces), and
+  // it is still a bijection with the input's topology.
+  DistanceOptions sampling;
+  sampling.samples = 20000;
+  for (const auto& [name, base] :
+       {std::pair{"sphere", shapes::icosahedron()}, std::pair{"torus", shapes::torus()},
+        std::pair{"slab", shapes::slab(2)}}) {
+    const TriMesh input = smooth(base, 3);
+    const Features features = detectFeatures(input, 70.0);
+    for (const int divisor : {10, 30}) {
+      SCOPED_TRACE(std::string(name) + " / " + std::to_string(divisor));
+      const int target = static_cast<int>(input.F.rows()) / divisor;
+      SimplifyOptions byError;
+      byError.retriangulateByError = true;
+      const Simplification shape = simplify(input, features, target);
+      const Simplification error = simplify(input, features, target, {}, kStages, byError);
+      EXPECT_EQ(error.base.F.rows(), shape.base.F.rows());
+      EXPECT_LT(surfaceDistance(error.base, input, sampling).rmsRelative,
+                surfaceDistance(shape.base, input, sampling).rmsRelative);
+      EXPECT_EQ(topology(error.base), topology(input));
+      expectBijection(input, error, static_cast<int>(input.F.rows() / 8));
+    }
+  }
 }
 
 TEST(Simplify, TracingBackIsTheExactInverse) {
@@ -279,7 +309,7 @@ TEST(Simplify, NoNewCrossingsKeepsACoarseBaseOfAThinBowlFromCrossingItself) {
   for (int target : {12, 40}) {
     SCOPED_TRACE(target);
     const Simplification loose = simplify(bowl, features, target);
-    const Simplification checked = simplify(bowl, features, target, {}, kStages, true);
+    const Simplification checked = simplify(bowl, features, target, {}, kStages, {true});
     EXPECT_GT(findSelfIntersections(loose.base, 0).count, 0);  // what the check is for
     EXPECT_EQ(findSelfIntersections(checked.base, 0).count, 0);
     EXPECT_EQ(checked.base.F.rows(), target);
@@ -300,7 +330,7 @@ TEST(Simplify, NoNewCrossingsLetsABaseCrossWhereTheInputDoes) {
   two.F << sphere.F, (sphere.F.array() + static_cast<int>(sphere.V.rows())).matrix();
   ASSERT_GT(findSelfIntersections(two, 0).count, 0);
   const Features features = detectFeatures(two, 70.0);
-  const Simplification checked = simplify(two, features, 40, {}, kStages, true);
+  const Simplification checked = simplify(two, features, 40, {}, kStages, {true});
   EXPECT_EQ(checked.base.F.rows(), 40);
   validate(checked.base, "base");
   EXPECT_EQ(topology(checked.base), topology(two));
@@ -368,7 +398,7 @@ TEST(Simplify, TipsKeepTheirConesSharedAmongTheirBaseFaces) {
   for (int target : {60, 120}) {
     SCOPED_TRACE(target);
     const Simplification s =
-        simplify(input, detectFeatures(input, 70.0), target, {}, kStages, true);
+        simplify(input, detectFeatures(input, 70.0), target, {}, kStages, {true});
     for (int tip = 0; tip < 12; ++tip) {
       ASSERT_GE(s.baseOf[tip], 0) << "tip " << tip;
       EXPECT_LE(largestShareOfTheCone(input, s, tip), 0.5) << "tip " << tip;
