@@ -45,11 +45,10 @@ void printAnalysis(const std::string& in, const std::string& out, const LoadedSu
 }  // namespace
 
 int cmdAnalyze(const Argv& argv) {
-  Args args("analyze", argv,
-            {"levels", "scheme", "wavelets", "rings", "output", "base-faces", "feature-angle",
-             "min-component-faces", "max-faces", "smoothing-sweeps", "stages", "retriangulation",
-             "samples", "seed"},
-            flags({"remesh"}));
+  Args args(
+      "analyze", argv,
+      withRemeshOptions({"levels", "scheme", "wavelets", "rings", "output", "samples", "seed"}),
+      flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra analyze IN -o OUT.mra");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");

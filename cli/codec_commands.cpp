@@ -60,27 +60,9 @@ double bitsPerVertex(std::size_t bytes, long long vertices) {
 
 int cmdCompress(const Argv& argv) {
   Args args("compress", argv,
-            {"output",
-             "psnr",
-             "bits-per-vertex",
-             "bytes",
-             "levels",
-             "scheme",
-             "wavelets",
-             "rings",
-             "precision",
-             "tangent-weight",
-             "level-gain",
-             "psnr-measure",
-             "base-faces",
-             "feature-angle",
-             "min-component-faces",
-             "max-faces",
-             "smoothing-sweeps",
-             "stages",
-             "retriangulation",
-             "samples",
-             "seed"},
+            withRemeshOptions({"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme",
+                               "wavelets", "rings", "precision", "tangent-weight", "level-gain",
+                               "psnr-measure", "samples", "seed"}),
             flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
   const Common opt = common(args);

@@ -89,27 +89,9 @@ void plotSweep(const std::string& csv, const std::string& png, const std::string
 
 int cmdLod(const Argv& argv) {
   Args args("lod", argv,
-            {"levels",
-             "scheme",
-             "wavelets",
-             "rings",
-             "output",
-             "epsilon",
-             "budget",
-             "keep",
-             "importance",
-             "selection",
-             "placement",
-             "metric",
-             "samples",
-             "seed",
-             "base-faces",
-             "feature-angle",
-             "min-component-faces",
-             "max-faces",
-             "smoothing-sweeps",
-             "stages",
-             "retriangulation"},
+            withRemeshOptions({"levels", "scheme", "wavelets", "rings", "output", "epsilon",
+                               "budget", "keep", "importance", "selection", "placement", "metric",
+                               "samples", "seed"}),
             flags({"exact", "remesh"}));
   args.expectPositional(
       1, "one input surface: osdmra lod IN (--epsilon E | --budget N | --keep F) -o OUT");
@@ -191,17 +173,11 @@ int cmdLod(const Argv& argv) {
 }
 
 int cmdSweep(const Argv& argv) {
-  Args args("sweep", argv, {"levels",        "scheme",
-                            "wavelets",      "rings",
-                            "csv",           "plot",
-                            "points",        "importance",
-                            "selection",     "placement",
-                            "metric",        "samples",
-                            "seed",          "base-faces",
-                            "feature-angle", "min-component-faces",
-                            "max-faces",     "smoothing-sweeps",
-                            "stages",        "retriangulation"},
-            flags({"exact", "remesh"}));
+  Args args(
+      "sweep", argv,
+      withRemeshOptions({"levels", "scheme", "wavelets", "rings", "csv", "plot", "points",
+                         "importance", "selection", "placement", "metric", "samples", "seed"}),
+      flags({"exact", "remesh"}));
   args.expectPositional(1, "one input surface: osdmra sweep IN --csv OUT.csv [--plot OUT.png]");
   const Common opt = common(args);
   const std::string in = args.positional()[0], csv = args.require("csv");
@@ -356,8 +332,7 @@ Json demoScheme(const DemoSetup& setup, const TriMesh& mesh, Scheme scheme,
 // to --out (default out/).
 int cmdDemo(const Argv& argv) {
   Args args("demo", argv,
-            {"rings", "out", "samples", "seed", "points", "base-faces", "levels", "feature-angle",
-             "min-component-faces", "max-faces", "smoothing-sweeps"},
+            withRemeshOptions({"rings", "out", "samples", "seed", "points", "levels"}),
             flags({"remesh"}));
   if (args.positional().size() > 1)
     throw Error("demo: at most one input mesh (default: the bundled head)");

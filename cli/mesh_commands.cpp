@@ -103,10 +103,7 @@ int cmdShape(const Argv& argv) {
 }
 
 int cmdRemesh(const Argv& argv) {
-  Args args("remesh", argv,
-            {"base-faces", "levels", "feature-angle", "min-component-faces", "max-faces",
-             "smoothing-sweeps", "stages", "retriangulation", "output", "samples", "seed"},
-            flags());
+  Args args("remesh", argv, withRemeshOptions({"levels", "output", "samples", "seed"}), flags());
   args.expectPositional(1, "one input mesh: osdmra remesh IN --base-faces N --levels J -o OUT");
   const Common opt = common(args);
   const std::string in = args.positional()[0], out = args.require("output");

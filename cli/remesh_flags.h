@@ -4,11 +4,23 @@
 // viewer.
 #pragma once
 
+#include <set>
+#include <string>
+
 #include "args.h"
 #include "osdmra/geometry/distance.h"
 #include "osdmra/remesh/remesh.h"
 
 namespace osdmra::cli {
+
+// A command's own valued options with the remesher's (read by remeshOptions, and
+// --min-component-faces by inputOptions), so that every command that remeshes takes
+// all of them.
+inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
+  own.insert({"base-faces", "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps",
+              "stages", "retriangulation"});
+  return own;
+}
 
 // --stages mesh|vertex (RemeshOptions::stagesPerVertex); `fallback` is the command's
 // default: vertex for the levels of detail (lod, sweep, the viewer), mesh elsewhere.
