@@ -46,6 +46,13 @@ InputOptions inputOptions(const Args& args) {
   return o;
 }
 
+InputOptions lodInputOptions(const Args& args) {
+  InputOptions o = inputOptions(args);
+  o.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");
+  o.remeshing.retriangulateByError = retriangulateByError(args, "error");
+  return o;
+}
+
 AnalysisOptions analysisOptions(const Args& args, const AnalysisDefaults& defaults) {
   AnalysisOptions o;
   o.levels = static_cast<int>(args.integer("levels", -1, 1, 15));

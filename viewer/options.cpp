@@ -28,6 +28,8 @@ const char* const kUsage =
     "                      --min-component-faces F drops components under F faces;\n"
     "                      --max-faces N splits a base larger than asked fewer times;\n"
     "                      --smoothing-sweeps S (default 10, 0: none) evens the sampling;\n"
+    "                      --stages vertex|mesh, --retriangulation error|shape: how\n"
+    "                      close to MESH the base is (defaults as lod's: vertex, error)\n"
     "                      --samples N: samples a side of the distance to MESH it\n"
     "                      reports (default 100000), --seed S their seed (default 1)\n"
     "  --view V            front (default), side, top or iso\n"
@@ -86,6 +88,9 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   osdmra::InputOptions& in = o.request.input;
   in.remesh = args.has("remesh");
   in.remeshing = osdmra::cli::remeshOptions(args);
+  // The base is the level of detail's coarsest level: as close to MESH as lod makes it.
+  in.remeshing.stagesPerVertex = osdmra::cli::stagesPerVertex(args, "vertex");
+  in.remeshing.retriangulateByError = osdmra::cli::retriangulateByError(args, "error");
   in.distance = osdmra::cli::distanceOptions(args);
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));
@@ -133,14 +138,11 @@ void parseHeadless(const osdmra::cli::Args& args, Options& o) {
 
 Options parseOptions(const std::vector<std::string>& argv) {
   const osdmra::cli::Args args(
-      "", argv, {"budget",    "epsilon",          "scheme",
-                 "rings",     "placement",        "base-faces",
-                 "levels",    "feature-angle",    "min-component-faces",
-                 "max-faces", "smoothing-sweeps", "view",
-                 "color",     "error-scale",      "layout",
-                 "tess",      "smooth-level",     "screenshot",
-                 "size",      "bench-slider",     "samples",
-                 "seed"},
+      "", argv,
+      osdmra::cli::withRemeshOptions({"budget", "epsilon", "scheme", "rings", "placement", "levels",
+                                      "view", "color", "error-scale", "layout", "tess",
+                                      "smooth-level", "screenshot", "size", "bench-slider",
+                                      "samples", "seed"}),
       {"remesh", "wireframe", "smooth", "json", "no-pane-cache", "help", "h"},
       "osdmra-viewer --help");
   Options o;
