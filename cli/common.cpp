@@ -37,19 +37,12 @@ WaveletOptions waveletOptions(const Args& args) {
   return w;
 }
 
-InputOptions inputOptions(const Args& args) {
+InputOptions inputOptions(const Args& args, bool levelsOfDetail) {
   InputOptions o;
   o.remesh = args.has("remesh");
-  if (o.remesh) o.remeshing = remeshOptions(args);
+  if (o.remesh) o.remeshing = remeshOptions(args, levelsOfDetail);
   o.minComponentFaces = static_cast<int>(args.integer("min-component-faces", 0, 0, 1 << 30));
   o.distance = distanceOptions(args);
-  return o;
-}
-
-InputOptions lodInputOptions(const Args& args) {
-  InputOptions o = inputOptions(args);
-  o.remeshing.stagesPerVertex = stagesPerVertex(args, "vertex");
-  o.remeshing.retriangulateByError = retriangulateByError(args, "error");
   return o;
 }
 

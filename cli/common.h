@@ -28,12 +28,9 @@ Common common(const Args& args);
 std::set<std::string> flags(std::set<std::string> extra = {});
 
 WaveletOptions waveletOptions(const Args& args);
-/// --remesh and its options, with the distance options of the command.
-InputOptions inputOptions(const Args& args);
-/// inputOptions for the levels of detail (lod, sweep, demo): the base is their coarsest
-/// level, so --stages and --retriangulation default to vertex and error (the base as
-/// close to the input as the remesher can make it; docs/LOD.md).
-InputOptions lodInputOptions(const Args& args);
+/// --remesh and its options, with the distance options of the command; for the levels
+/// of detail (lod, sweep, demo) with their defaults (remeshOptions' levelsOfDetail).
+InputOptions inputOptions(const Args& args, bool levelsOfDetail = false);
 /// What a command takes where its options say nothing.
 struct AnalysisDefaults {
   const char* scheme = "loop";

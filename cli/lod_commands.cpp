@@ -102,7 +102,7 @@ int cmdLod(const Argv& argv) {
   meshFormatForWriting(out);  // refuse a bad output name before the work
   const AnalysisOptions options = analysisOptions(args, kLodDefaults);
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
-  const InputOptions input = lodInputOptions(args);
+  const InputOptions input = inputOptions(args, true);
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
   // remeshes over a half, a quarter and a sixteenth of the budget and keeps the
   // closest level of detail, unless --base-faces fixes the base (and --levels the levels).
@@ -180,7 +180,7 @@ int cmdSweep(const Argv& argv) {
   const std::string plot = args.get("plot");
   const int points = static_cast<int>(args.integer("points", 24, 2, 1000));
   const AnalysisOptions options = analysisOptions(args, kSweepDefaults);
-  const LoadedSurface s = loadInput(in, lodInputOptions(args), opt);
+  const LoadedSurface s = loadInput(in, inputOptions(args, true), opt);
   const AnalysedSurface a(s.mesh, options, in, opt.progress);
   const SweepTable t = sweepTable(a, points, distanceOptions(args), opt.progress);
   writeTextFile(csv, t.csv);
@@ -344,7 +344,7 @@ int cmdDemo(const Argv& argv) {
   setup.json = opt.json;
   setup.progress = opt.progress;
 
-  const LoadedSurface s = loadInput(setup.in, lodInputOptions(args), opt);
+  const LoadedSurface s = loadInput(setup.in, inputOptions(args, true), opt);
   std::filesystem::create_directories(setup.outDir);
   std::ostringstream md;
   md << demoIntroduction(setup, bundled, s);

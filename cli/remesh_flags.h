@@ -23,7 +23,7 @@ inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
 }
 
 // --stages mesh|vertex (RemeshOptions::stagesPerVertex); `fallback` is the command's
-// default: vertex for the levels of detail (lod, sweep, the viewer), mesh elsewhere.
+// default (remeshOptions).
 inline bool stagesPerVertex(const Args& args, const std::string& fallback) {
   const std::string s = args.get("stages", fallback);
   if (s != "mesh" && s != "vertex")
@@ -40,7 +40,10 @@ inline bool retriangulateByError(const Args& args, const std::string& fallback) 
   return s == "error";
 }
 
-inline RemeshOptions remeshOptions(const Args& args) {
+// `levelsOfDetail`: for lod, sweep, demo and the viewer, whose coarsest level is the
+// base: --stages and --retriangulation default to vertex and error (the base as close
+// to the input as the remesher can make it; docs/LOD.md), elsewhere to mesh and shape.
+inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false) {
   RemeshOptions o;
   o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
   o.levels = static_cast<int>(args.integer("levels", o.levels, 0, 8));
@@ -48,8 +51,8 @@ inline RemeshOptions remeshOptions(const Args& args) {
   o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
   o.smoothingSweeps =
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
-  o.stagesPerVertex = stagesPerVertex(args, "mesh");
-  o.retriangulateByError = retriangulateByError(args, "shape");
+  o.stagesPerVertex = stagesPerVertex(args, levelsOfDetail ? "vertex" : "mesh");
+  o.retriangulateByError = retriangulateByError(args, levelsOfDetail ? "error" : "shape");
   return o;
 }
 

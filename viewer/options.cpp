@@ -87,10 +87,7 @@ void parseAnalysis(const osdmra::cli::Args& args, Options& o) {
   o.request.placement = osdmra::parsePlacement(args.get("placement", "surface"));
   osdmra::InputOptions& in = o.request.input;
   in.remesh = args.has("remesh");
-  in.remeshing = osdmra::cli::remeshOptions(args);
-  // The base is the level of detail's coarsest level: as close to MESH as lod makes it.
-  in.remeshing.stagesPerVertex = osdmra::cli::stagesPerVertex(args, "vertex");
-  in.remeshing.retriangulateByError = osdmra::cli::retriangulateByError(args, "error");
+  in.remeshing = osdmra::cli::remeshOptions(args, true);  // as lod's
   in.distance = osdmra::cli::distanceOptions(args);
   in.minComponentFaces =
       static_cast<int>(args.integer("min-component-faces", in.minComponentFaces, 0, 1 << 30));

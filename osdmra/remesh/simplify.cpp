@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <string>
 
 #include "osdmra/geometry/face_grid.h"
@@ -118,7 +117,7 @@ class Simplifier {
   bool hasEdge(int a, int b) const;
   bool plan(int v, const Ring& around, Plan& p);
   bool tryTriangulation(int v, Plan& p, double& worst);
-  bool tryByError(int v, Plan& p);
+  bool retriangulate(int v, Plan& p);
   double triangulationError(int v, const Plan& p) const;
   void passOnQuadric(int v, const Ring& ring);
   bool placePoints(int v, Plan& p);
@@ -311,30 +310,46 @@ bool Simplifier::plan(int v, const Ring& around, Plan& p) {
     refusal_ = kCurved;
     return false;
   }
-  if (!quadric_.empty()) return tryByError(v, p);
-  // The ear clipping's triangulation first; where it is refused, the fans from each
-  // corner (a ring without a feature line) before the removal is deferred.
-  double worst = 0;
-  p.triangles = triangulateRing(p.flat.points, p.ring.boundary, p.featureAt);
-  if (tryTriangulation(v, p, worst)) return true;
-  if (p.featureAt >= 0) return false;
+  return retriangulate(v, p);
+}
+
+// The ring's candidate retriangulations, tried in order, the first certified one kept:
+// the ear clipping's, and for a ring without a feature line the fans from each corner.
+// By shape (the default), the ear clipping first, then the fans from the corners of
+// lowest valence (the first such corner on a tie); by error
+// (SimplifyOptions::retriangulateByError), in order of the error each makes.
+bool Simplifier::retriangulate(int v, Plan& p) {
   const int numPoints = static_cast<int>(p.flat.points.size());
   const int corners = p.ring.boundary ? numPoints : numPoints - 1;
-  if (corners <= 3) {
-    refusal_ = kTopology;  // a ring of three: removing v would close a tetrahedron's hole
-    return false;
+  const std::vector<std::array<int, 3>> ear =
+      triangulateRing(p.flat.points, p.ring.boundary, p.featureAt);
+  // Candidate -1 is the ear clipping, k >= 0 the fan from corner k.
+  const auto candidate = [&](int k) {
+    return k < 0 ? ear : fanOfRing(k, numPoints, p.ring.boundary);
+  };
+  std::vector<int> order = {-1};
+  if (p.featureAt < 0 && corners > 3)
+    for (int k = 0; k < corners; ++k) order.push_back(k);
+  if (quadric_.empty()) {
+    std::stable_sort(order.begin() + 1, order.end(), [&](int x, int y) {
+      return vertFaces_[p.vertex(x)].size() < vertFaces_[p.vertex(y)].size();
+    });
+  } else {
+    std::vector<double> error(order.size());  // of candidate k at k + 1
+    for (int k : order) {
+      p.triangles = candidate(k);
+      error[k + 1] = triangulationError(v, p);
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int x, int y) { return error[x + 1] < error[y + 1]; });
   }
-  // Of the fans that pass, the one from the corner of lowest valence (the first such
-  // corner on a tie): tried in that order, the first that passes.
-  std::vector<int> order(static_cast<std::size_t>(corners));
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return vertFaces_[p.vertex(x)].size() < vertFaces_[p.vertex(y)].size();
-  });
-  for (int from : order) {
-    p.triangles = fanOfRing(from, numPoints, p.ring.boundary);
+  double worst = 0;
+  for (int k : order) {
+    p.triangles = candidate(k);
     if (tryTriangulation(v, p, worst)) return true;
   }
+  // A ring of three: removing v would close a tetrahedron's hole.
+  if (p.featureAt < 0 && corners <= 3) refusal_ = kTopology;
   return false;
 }
 
@@ -365,31 +380,6 @@ double Simplifier::triangulationError(int v, const Plan& p) const {
   Vec3 q = Vec3::Zero();
   for (int i = 0; i < 3; ++i) q += bary[i] / sum * V_.row(p.vertex((*at)[i])).transpose();
   return quadric_[v](q);
-}
-
-// SimplifyOptions::retriangulateByError: the candidate retriangulations in order of
-// the error they make, the first certified one kept.
-bool Simplifier::tryByError(int v, Plan& p) {
-  std::vector<std::pair<double, std::vector<std::array<int, 3>>>> tries;
-  tries.emplace_back(0, triangulateRing(p.flat.points, p.ring.boundary, p.featureAt));
-  const int numPoints = static_cast<int>(p.flat.points.size());
-  const int corners = p.ring.boundary ? numPoints : numPoints - 1;
-  if (p.featureAt < 0 && corners > 3)
-    for (int from = 0; from < corners; ++from)
-      tries.emplace_back(0, fanOfRing(from, numPoints, p.ring.boundary));
-  for (auto& t : tries) {
-    p.triangles = t.second;
-    t.first = triangulationError(v, p);
-  }
-  std::stable_sort(tries.begin(), tries.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  double worst = 0;
-  for (const auto& t : tries) {
-    p.triangles = t.second;
-    if (tryTriangulation(v, p, worst)) return true;
-  }
-  if (corners <= 3 && p.featureAt < 0) refusal_ = kTopology;
-  return false;
 }
 
 // A removed vertex's planes go to its ring, shared out evenly, so that the quadrics'
