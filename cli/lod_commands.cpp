@@ -114,7 +114,7 @@ int cmdLod(const Argv& argv) {
   if (input.remesh && budget > 0 && !args.has("base-faces")) {
     BudgetSearchOptions search;
     search.levelsForEachBase = !args.has("levels");
-    search.stagesPerVertex = input.remeshing.stagesPerVertex;
+    search.stagesPerVertex = input.remeshing.stages == StageRelaxation::perVertex;
     search.retriangulateByError = input.remeshing.retriangulateByError;
     searched = lodForBudget(in, budget, input, options, search, opt.progress);
     printRemeshWarnings(in, *searched->surface.remeshing);

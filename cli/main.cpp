@@ -67,7 +67,7 @@ commands:
                                (see remesh)
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
-                 [--stages mesh|vertex] [--retriangulation shape|error]
+                 [--stages auto|vertex|mesh] [--retriangulation shape|error]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -85,7 +85,9 @@ commands:
                                --stages vertex relaxes the simplification's
                                limits vertex by vertex, for those passed over for
                                more important ones (a base closer to the input,
-                               a more distorted map; default mesh: mesh-wide);
+                               a more distorted map), mesh mesh-wide; default
+                               auto: vertex, and mesh as well where that leaves
+                               defects, the one with fewer kept;
                                --retriangulation error fills each removed
                                vertex's ring by the error made, as a quadric
                                simplifier would (default shape: by the faces'

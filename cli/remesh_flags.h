@@ -22,13 +22,14 @@ inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
   return own;
 }
 
-// --stages mesh|vertex (RemeshOptions::stagesPerVertex); `fallback` is the command's
-// default (remeshOptions).
-inline bool stagesPerVertex(const Args& args, const std::string& fallback) {
+// --stages auto|vertex|mesh (RemeshOptions::stages: auto is perVertexElseMeshWide);
+// `fallback` is the command's default (remeshOptions).
+inline StageRelaxation stageRelaxation(const Args& args, const std::string& fallback) {
   const std::string s = args.get("stages", fallback);
-  if (s != "mesh" && s != "vertex")
-    throw Error("--stages: expected mesh or vertex, got '" + s + "'");
-  return s == "vertex";
+  if (s == "auto") return StageRelaxation::perVertexElseMeshWide;
+  if (s == "vertex") return StageRelaxation::perVertex;
+  if (s == "mesh") return StageRelaxation::meshWide;
+  throw Error("--stages: expected auto, vertex or mesh, got '" + s + "'");
 }
 
 // --retriangulation shape|error (RemeshOptions::retriangulateByError); `fallback` as
@@ -42,7 +43,7 @@ inline bool retriangulateByError(const Args& args, const std::string& fallback) 
 
 // `levelsOfDetail`: for lod, sweep, demo and the viewer, whose coarsest level is the
 // base: --stages and --retriangulation default to vertex and error (the base as close
-// to the input as the remesher can make it; docs/LOD.md), elsewhere to mesh and shape.
+// to the input as the remesher can make it; docs/LOD.md), elsewhere to auto and shape.
 inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false) {
   RemeshOptions o;
   o.baseFaces = static_cast<int>(args.integer("base-faces", o.baseFaces, 4, 1 << 24));
@@ -51,7 +52,7 @@ inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false
   o.maxFaces = args.integer("max-faces", o.maxFaces, 0, 1LL << 40);
   o.smoothingSweeps =
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
-  o.stagesPerVertex = stagesPerVertex(args, levelsOfDetail ? "vertex" : "mesh");
+  o.stages = stageRelaxation(args, levelsOfDetail ? "vertex" : "auto");
   o.retriangulateByError = retriangulateByError(args, levelsOfDetail ? "error" : "shape");
   return o;
 }

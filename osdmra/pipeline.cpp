@@ -358,7 +358,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
               const Progress& progress) {
   const auto t0 = Clock::now();
   options.remeshing.baseFaces = baseFaces;
-  if (search.stagesPerVertex) options.remeshing.stagesPerVertex = true;
+  if (search.stagesPerVertex) options.remeshing.stages = StageRelaxation::perVertex;
   if (search.retriangulateByError) options.remeshing.retriangulateByError = true;
   if (search.levelsForEachBase && options.remeshing.maxFaces == 0)
     options.remeshing.maxFaces = kLodRemeshingFaces;

@@ -253,7 +253,7 @@ struct BudgetSearchOptions {
   /// How each trial's level of detail is measured against the input. It only ranks the
   /// trials, so it samples less than a report does.
   DistanceOptions selection{20000, 1, true};
-  /// Remesh with RemeshOptions::stagesPerVertex on, whatever InputOptions say: the
+  /// Remesh with StageRelaxation::perVertex, whatever InputOptions say: the
   /// coarse levels of a level of detail are the base, which then spreads by importance
   /// (on the 48 rows of docs/LOD.md, RMS at most meshoptimizer's on 38 instead of 35).
   bool stagesPerVertex = true;

@@ -28,7 +28,7 @@ const char* const kUsage =
     "                      --min-component-faces F drops components under F faces;\n"
     "                      --max-faces N splits a base larger than asked fewer times;\n"
     "                      --smoothing-sweeps S (default 10, 0: none) evens the sampling;\n"
-    "                      --stages vertex|mesh, --retriangulation error|shape: how\n"
+    "                      --stages vertex|auto|mesh, --retriangulation error|shape: how\n"
     "                      close to MESH the base is (defaults as lod's: vertex, error)\n"
     "                      --samples N: samples a side of the distance to MESH it\n"
     "                      reports (default 100000), --seed S their seed (default 1)\n"

@@ -107,33 +107,27 @@ long long defectsLeft(const Remeshing& r) {
          r.selfIntersectionsWhereSheetsCross;
 }
 
-}  // namespace
-
-int levelsWithin(long long baseFaces, int maxLevels, long long maxFaces) {
-  int levels = std::min(maxLevels, 2);
-  while (levels < maxLevels && (maxFaces == 0 || (baseFaces << (2 * (levels + 1))) <= maxFaces))
-    ++levels;
-  return levels;
+// What the other stage relaxation could mend: the crossings away from the input's own
+// (near them, a fold of the input leaves knots that neither undoes).
+long long defectsBeyondInput(const Remeshing& r) {
+  return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
+         r.selfIntersectionsAtInputCrossings;
 }
 
-Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progress& progress) {
+// Steps 1 to 3 (remesh()) with the simplification's stages relaxed vertex by vertex or
+// mesh-wide.
+Remeshing remeshedOver(const TriMesh& input, const remeshing::Features& features,
+                       const RemeshOptions& options, bool stagesPerVertex,
+                       const Progress& progress) {
   using namespace remeshing;
-  checkInput(given, options);
-  // Renumbered along space: the simplification's per-vertex and per-face tables are
-  // then read near where they were last read (remesh() on one core 11-15% faster on the
-  // bunny and armadillo than in their files' order), and the result depends on the
-  // surface alone, not on the file's numbering (which decided ties and the order of
-  // the work, and moved single rows of docs/REMESH.md's table either way).
-  const TriMesh input = inSpatialOrder(given);
   Remeshing out;
-  const Features features =
-      detectFeatures(input, options.featureAngle, 0.5 * baseEdgeLength(input, options.baseFaces));
   out.featureEdges = static_cast<int>(features.list.size());
   out.tips = static_cast<int>(std::count(features.tip.begin(), features.tip.end(), 1));
+  out.stages = stagesPerVertex ? "vertex" : "mesh";
 
   SimplifyOptions how;
   how.noNewCrossings = options.baseWithoutNewCrossings;
-  how.stagesPerVertex = options.stagesPerVertex;
+  how.stagesPerVertex = stagesPerVertex;
   how.retriangulateByError = options.retriangulateByError;
   Simplification s = simplify(input, features, options.baseFaces, progress, kStages, how);
   out.base = s.base;
@@ -184,6 +178,39 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   best.straightenedDefects = straightenedLeft;
   best.exactDefects = exactLeft;
   return best;
+}
+
+}  // namespace
+
+int levelsWithin(long long baseFaces, int maxLevels, long long maxFaces) {
+  int levels = std::min(maxLevels, 2);
+  while (levels < maxLevels && (maxFaces == 0 || (baseFaces << (2 * (levels + 1))) <= maxFaces))
+    ++levels;
+  return levels;
+}
+
+Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progress& progress) {
+  checkInput(given, options);
+  // Renumbered along space: the simplification's per-vertex and per-face tables are
+  // then read near where they were last read (remesh() on one core 11-15% faster on the
+  // bunny and armadillo than in their files' order), and the result depends on the
+  // surface alone, not on the file's numbering (which decided ties and the order of
+  // the work, and moved single rows of docs/REMESH.md's table either way).
+  const TriMesh input = inSpatialOrder(given);
+  const remeshing::Features features = remeshing::detectFeatures(
+      input, options.featureAngle, 0.5 * baseEdgeLength(input, options.baseFaces));
+  const bool perVertexFirst = options.stages != StageRelaxation::meshWide;
+  Remeshing best = remeshedOver(input, features, options, perVertexFirst, progress);
+  if (options.stages != StageRelaxation::perVertexElseMeshWide) return best;
+  // The fallback (StageRelaxation::perVertexElseMeshWide): on the corpus of
+  // docs/REMESH.md the per-vertex remesh had defects on 8 of 96 runs, the mesh-wide one
+  // on none of those but the cow's.
+  best.perVertexDefects = defectsBeyondInput(best);
+  if (best.perVertexDefects == 0) return best;
+  Remeshing meshWide = remeshedOver(input, features, options, false, progress);
+  if (defectsBeyondInput(meshWide) >= best.perVertexDefects) return best;
+  meshWide.perVertexDefects = best.perVertexDefects;
+  return meshWide;
 }
 
 }  // namespace osdmra

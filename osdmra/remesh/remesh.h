@@ -34,6 +34,27 @@
 
 namespace osdmra {
 
+/// How the simplification relaxes its stages (simplify.h's kStages, strictest first).
+enum class StageRelaxation {
+  /// A vertex its stage's limits keep waits until no vertex at all can go, and the size
+  /// asked is then reached by removing important vertices: at 1% of their faces the
+  /// bases of the camel head, the lion and armadillo come 3.2, 3.3 and 0.65% of the
+  /// diagonal from their scans (RMS).
+  meshWide,
+  /// A vertex kept in a round where a more important one is removed goes on under the
+  /// next stage's limits, so that the base spreads by importance (1.2, 2.3 and 0.45% on
+  /// the same scans). The parameterisation is more distorted where loose limits went
+  /// early: over the corpus of docs/REMESH.md, 21% lower RMS and 11% lower Hausdorff
+  /// distances than meshWide, but 6 of its 90 runs other than the cow's with flipped or
+  /// crossing triangles instead of none.
+  perVertex,
+  /// perVertex, and where its remesh has defects beyond the input's own (flipped,
+  /// zero-area, or crossing pairs away from the input's crossings) meshWide as well, the
+  /// one with fewer defects kept: perVertex's accuracy where it samples cleanly,
+  /// meshWide's robustness where it does not, at twice the time there.
+  perVertexElseMeshWide,
+};
+
 struct RemeshOptions {
   /// Target number of base faces: simplification stops at or just below it, or
   /// earlier when no vertex can be removed without changing the topology or
@@ -75,20 +96,9 @@ struct RemeshOptions {
   /// since 2026-11-27; it costs about 15% of the simplification (armadillo) and can leave a base
   /// larger than asked over thin parts.
   bool baseWithoutNewCrossings = true;
-  /// Relax the simplification's stages (simplify.h's kStages) vertex by vertex: a
-  /// vertex that its stage's limits keep in a round where a more important vertex is
-  /// removed goes on under the next stage's limits, so that the base spreads by
-  /// importance rather than by which removals the strictest limits allow. Mesh-wide
-  /// (the default), a refused vertex waits until no vertex at all can go, and the size
-  /// asked is reached by removing important ones instead: at 1% of their faces the bases
-  /// of the camel head, the lion and armadillo come 3.2, 3.3 and 0.65% of the diagonal
-  /// from their scans (RMS) mesh-wide, 1.2, 2.3 and 0.45% vertex by vertex. The
-  /// parameterisation is more distorted where loose limits went early: over the corpus of
-  /// docs/REMESH.md it gives 21% lower RMS and 11% lower Hausdorff distances, but 6 of
-  /// the 90 runs other than the cow's with flipped or crossing triangles instead of none.
-  /// So the remesher keeps the mesh-wide stages, and lodForBudget, whose coarse levels are
-  /// the base, relaxes vertex by vertex (BudgetSearchOptions::stagesPerVertex).
-  bool stagesPerVertex = false;
+  /// How the simplification relaxes its stages (simplify.h's kStages): vertex by vertex,
+  /// falling back to mesh-wide where that leaves defects (StageRelaxation).
+  StageRelaxation stages = StageRelaxation::perVertexElseMeshWide;
   /// Retriangulate each removal's one-ring by the error it makes (simplify.h's
   /// SimplifyOptions::retriangulateByError), not by the shape of the new faces first.
   /// A fan from a ring corner is the collapse of the removed vertex into it, so this
@@ -116,6 +126,11 @@ struct Remeshing {
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)
   /// that it needed.
   int simplificationRounds = 0, simplificationStage = 0;
+  /// How the kept remesh's stages were relaxed: "vertex" or "mesh" (StageRelaxation);
+  /// and under perVertexElseMeshWide, the defects beyond the input's own that the
+  /// per-vertex remesh left (-1: not tried).
+  std::string stages = "mesh";
+  long long perVertexDefects = -1;
   /// What the smoothing of the parameterisation did (smoothing.h): moves kept and moves
   /// refused (a fold or too much distortion), over all its sweeps; 0, 0 without it.
   int smoothingMoves = 0, smoothingRefused = 0;

@@ -324,6 +324,10 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
               (r.out.find("\"used\": \"exact\"") != std::string::npos &&
                r.out.find("\"exact_defects\": 0}") != std::string::npos))
       << r.out;
+  // The stages relaxed vertex by vertex (the default, --stages auto) left nothing here
+  // either, so that remesh was kept and the mesh-wide one never made.
+  EXPECT_NE(r.out.find("\"stages\": \"vertex\", \"per_vertex_defects\": 0}"), std::string::npos)
+      << r.out;
   // Without the smoothing (--smoothing-sweeps 0) the straightened map alone is clean
   // there, as it was before the smoothing; a negative count is refused, by its flag.
   const Result unsmoothed =
@@ -345,10 +349,11 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(negative.status, 0);
   EXPECT_NE(negative.err.find("--smoothing-sweeps"), std::string::npos) << negative.err;
   EXPECT_FALSE(fs::exists(path("n.ply")));
-  // --stages takes mesh or vertex, and names what it got otherwise.
+  // --stages takes auto, vertex or mesh, and names what it got otherwise.
   const Result stages = run("remesh " + path("t3.obj") + " --stages edge -o " + path("n.ply"));
   EXPECT_NE(stages.status, 0);
-  EXPECT_NE(stages.err.find("--stages: expected mesh or vertex, got 'edge'"), std::string::npos)
+  EXPECT_NE(stages.err.find("--stages: expected auto, vertex or mesh, got 'edge'"),
+            std::string::npos)
       << stages.err;
   EXPECT_FALSE(fs::exists(path("n.ply")));
   const Result how = run("remesh " + path("t3.obj") + " --retriangulation fan -o " + path("n.ply"));

@@ -22,6 +22,11 @@ using namespace osdmra::test;
 
 namespace {
 
+// The simplification's stages relaxed mesh-wide, and the default (vertex by vertex,
+// mesh-wide where that leaves defects).
+constexpr StageRelaxation kRelaxations[] = {StageRelaxation::meshWide,
+                                            StageRelaxation::perVertexElseMeshWide};
+
 // A shape refined by Loop subdivision, lightly displaced, then with its vertices
 // shuffled so that it has no visible structure left to exploit.
 TriMesh smoothInput(const TriMesh& base, int levels, std::uint64_t seed) {
@@ -46,42 +51,51 @@ TEST(Remesh, KeepsTopologyAndStaysClose) {
     SCOPED_TRACE(c.name);
     const TriMesh input = smoothInput(c.base, c.levels, 7);
     validate(input, c.name);
-    RemeshOptions o;
-    o.baseFaces = std::max(40, static_cast<int>(input.F.rows() / 16));
-    o.levels = 3;
-    const Remeshing r = remesh(input, o);
-    validate(r.mesh, "remeshed");
-    // Sampling the bijective, distortion-bounded parameterisation folds nothing: the
-    // clean-up, a safety net, has nothing to do.
-    EXPECT_EQ(r.cleanupDefectsBefore, 0);
-    EXPECT_EQ(r.cleanupMovedPoints, 0);
-    validate(r.base, "base");
-    // Topology: genus, boundary loops and components.
-    const Topology a = topology(input), b = topology(r.mesh), base = topology(r.base);
-    EXPECT_EQ(b, a);
-    EXPECT_EQ(base.euler, a.euler);
-    // The base is about the size asked for and the result is its J-fold split.
-    EXPECT_LE(r.base.F.rows(), o.baseFaces);
-    EXPECT_GT(r.base.F.rows(), o.baseFaces / 2);
-    EXPECT_EQ(r.mesh.F.rows(), r.base.F.rows() << (2 * o.levels));
-    const Recovery rec = recoverSubdivision(r.mesh.F, static_cast<int>(r.mesh.V.rows()));
-    EXPECT_GE(rec.levels, o.levels) << describe(rec);
-    // Close to the input, relative to the bounding-box diagonal.
-    DistanceOptions d;
-    d.samples = 20000;
-    const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
-    EXPECT_LT(dist.rmsRelative, 2e-3) << dist.rmsRelative;
-    EXPECT_LT(dist.hausdorffRelative, 2e-2) << dist.hausdorffRelative;
-    // No triangle turned over, of zero area, or crossing another.
-    EXPECT_EQ(r.degenerateTriangles, 0);
-    EXPECT_EQ(r.flippedTriangles, 0);
-    EXPECT_EQ(r.selfIntersections, 0);
-    // The base mesh is the remeshed surface's level 0, and on the input.
-    EXPECT_EQ(r.base.V, r.mesh.V.topRows(r.base.V.rows()));
-    const TriangleBvh bvh(input);
-    const double diag = boundingBoxDiagonal(input.V);
-    for (Eigen::Index v = 0; v < r.base.V.rows(); ++v)
-      EXPECT_LT(bvh.closestPoint(r.base.V.row(v).transpose()).distance, 1e-12 * diag);
+    for (const StageRelaxation stages : kRelaxations) {
+      SCOPED_TRACE(static_cast<int>(stages));
+      RemeshOptions o;
+      o.baseFaces = std::max(40, static_cast<int>(input.F.rows() / 16));
+      o.levels = 3;
+      o.stages = stages;
+      const Remeshing r = remesh(input, o);
+      validate(r.mesh, "remeshed");
+      // Sampling the bijective, distortion-bounded parameterisation folds nothing: the
+      // clean-up, a safety net, has nothing to do. Vertex by vertex, a vertex passed over
+      // reaches the loosest bounds early, and the grid may fold where it went (the disc:
+      // 1 triangle, 11 points moved; the cylinder: 1, 15): the clean-up mends those, and
+      // the remesh is kept (no defect is left, below).
+      if (stages == StageRelaxation::meshWide) {
+        EXPECT_EQ(r.cleanupDefectsBefore, 0);
+        EXPECT_EQ(r.cleanupMovedPoints, 0);
+      }
+      validate(r.base, "base");
+      // Topology: genus, boundary loops and components.
+      const Topology a = topology(input), b = topology(r.mesh), base = topology(r.base);
+      EXPECT_EQ(b, a);
+      EXPECT_EQ(base.euler, a.euler);
+      // The base is about the size asked for and the result is its J-fold split.
+      EXPECT_LE(r.base.F.rows(), o.baseFaces);
+      EXPECT_GT(r.base.F.rows(), o.baseFaces / 2);
+      EXPECT_EQ(r.mesh.F.rows(), r.base.F.rows() << (2 * o.levels));
+      const Recovery rec = recoverSubdivision(r.mesh.F, static_cast<int>(r.mesh.V.rows()));
+      EXPECT_GE(rec.levels, o.levels) << describe(rec);
+      // Close to the input, relative to the bounding-box diagonal.
+      DistanceOptions d;
+      d.samples = 20000;
+      const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
+      EXPECT_LT(dist.rmsRelative, 2e-3) << dist.rmsRelative;
+      EXPECT_LT(dist.hausdorffRelative, 2e-2) << dist.hausdorffRelative;
+      // No triangle turned over, of zero area, or crossing another.
+      EXPECT_EQ(r.degenerateTriangles, 0);
+      EXPECT_EQ(r.flippedTriangles, 0);
+      EXPECT_EQ(r.selfIntersections, 0);
+      // The base mesh is the remeshed surface's level 0, and on the input.
+      EXPECT_EQ(r.base.V, r.mesh.V.topRows(r.base.V.rows()));
+      const TriangleBvh bvh(input);
+      const double diag = boundingBoxDiagonal(input.V);
+      for (Eigen::Index v = 0; v < r.base.V.rows(); ++v)
+        EXPECT_LT(bvh.closestPoint(r.base.V.row(v).transpose()).distance, 1e-12 * diag);
+    }
   }
 }
 
@@ -189,7 +203,10 @@ TEST(Remesh, TheExactMapIsTriedWhereTheStraightenedOneLeavesDefects) {
   EXPECT_EQ(checked.straightenedDefects, 0);
   EXPECT_EQ(checked.flippedTriangles + checked.degenerateTriangles + checked.selfIntersections, 0);
   EXPECT_EQ(findSelfIntersections(checked.base).count, 0);
+  // Without the check, the base made with the mesh-wide stages crosses itself (the
+  // per-vertex one does not: remesh() would keep that).
   o.baseWithoutNewCrossings = false;
+  o.stages = StageRelaxation::meshWide;
   const Remeshing r = remesh(subdivide(shapes::torus(), 1, Scheme::Loop, 0.02, 3), o);
   EXPECT_GT(findSelfIntersections(r.base).count, 0);
   EXPECT_GT(r.straightenedDefects, 0);
@@ -213,6 +230,48 @@ TEST(Remesh, TheExactMapIsTriedWhereTheStraightenedOneLeavesDefects) {
   EXPECT_EQ(smooth.gridMap, "straightened");
 }
 
+// The default relaxation (StageRelaxation::perVertexElseMeshWide) keeps the per-vertex
+// remesh where it leaves no defect beyond the input's own, and the mesh-wide one where it
+// does and that one leaves fewer: a noisy genus-2 slab (1,600 faces displaced by a
+// twenty-fifth of its size) asked for 50 base faces (its noise keeps 90) at J = 3,
+// where the per-vertex remesh leaves 9 defects (1 flipped, 8 crossing pairs) and the
+// mesh-wide one none.
+TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
+  const TriMesh input = subdivide(shapes::slab(2), 2, Scheme::Loop, 0.04, 3);
+  RemeshOptions o;
+  o.baseFaces = 50;
+  o.levels = 3;
+  auto defects = [](const Remeshing& r) {
+    return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
+           r.selfIntersectionsAtInputCrossings;
+  };
+  o.stages = StageRelaxation::perVertex;
+  const Remeshing perVertex = remesh(input, o);
+  EXPECT_EQ(perVertex.stages, "vertex");
+  EXPECT_EQ(perVertex.perVertexDefects, -1);  // not a fallback: not counted
+  o.stages = StageRelaxation::meshWide;
+  const Remeshing meshWide = remesh(input, o);
+  EXPECT_EQ(meshWide.stages, "mesh");
+  ASSERT_GT(defects(perVertex), defects(meshWide));
+  o.stages = StageRelaxation::perVertexElseMeshWide;
+  const Remeshing r = remesh(input, o);
+  EXPECT_EQ(r.stages, "mesh");
+  EXPECT_EQ(r.perVertexDefects, defects(perVertex));
+  EXPECT_EQ(r.mesh.V, meshWide.mesh.V);
+  EXPECT_EQ(r.mesh.F, meshWide.mesh.F);
+  EXPECT_EQ(defects(r), defects(meshWide));
+
+  // Where vertex by vertex leaves none, it is kept, and the mesh-wide one never made.
+  const TriMesh smooth = smoothInput(shapes::icosahedron(), 3, 7);
+  const Remeshing kept = remesh(smooth, o);
+  o.stages = StageRelaxation::perVertex;
+  const Remeshing alone = remesh(smooth, o);
+  EXPECT_EQ(defects(alone), 0);
+  EXPECT_EQ(kept.stages, "vertex");
+  EXPECT_EQ(kept.perVertexDefects, 0);
+  EXPECT_EQ(kept.mesh.V, alone.mesh.V);
+}
+
 TEST(Remesh, KeepsTheTipOfAProtrusion) {
   // A sphere with a horn: one vertex pulled out to three times the radius, its
   // one-ring a sharp cone. Asked for bases far coarser than the sphere needs, the
@@ -227,25 +286,32 @@ TEST(Remesh, KeepsTheTipOfAProtrusion) {
     for (Eigen::Index v = 0; v < r.base.V.rows(); ++v) kept = kept || r.base.V.row(v) == tip;
     return kept;
   };
-  for (int baseFaces : {8, 12, 16}) {
-    SCOPED_TRACE(baseFaces);
-    RemeshOptions o;
-    o.baseFaces = baseFaces;
-    o.levels = 4;
-    const Remeshing r = remesh(input, o);
-    EXPECT_EQ(r.tips, 1);  // the horn's tip, its faces' angles summing to under 192 degrees
-    EXPECT_TRUE(keepsTip(r));
-    EXPECT_EQ(r.base.F.rows() > baseFaces, !r.baseSizeReason.empty());
-    EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
-    EXPECT_EQ(r.selfIntersections, 0);
-    // The remeshed surface keeps the horn: 2.0% of the diagonal over 8 base faces (the
-    // whole sphere but the horn is then five base vertices), 0.8% over 12 and 16.
-    // Flattening the tip, as the simplification once did to reach 8 faces, is 6.3%.
-    DistanceOptions d;
-    d.samples = 20000;
-    const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
-    EXPECT_LT(dist.hausdorffRelative, baseFaces == 8 ? 0.025 : 0.01) << dist.hausdorffRelative;
-  }
+  for (const StageRelaxation stages : kRelaxations)
+    for (int baseFaces : {8, 12, 16}) {
+      SCOPED_TRACE(baseFaces);
+      SCOPED_TRACE(static_cast<int>(stages));
+      RemeshOptions o;
+      o.baseFaces = baseFaces;
+      o.levels = 4;
+      o.stages = stages;
+      const Remeshing r = remesh(input, o);
+      EXPECT_EQ(r.tips, 1);  // the horn's tip, its faces' angles summing to under 192 degrees
+      EXPECT_TRUE(keepsTip(r));
+      EXPECT_EQ(r.base.F.rows() > baseFaces, !r.baseSizeReason.empty());
+      EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles, 0);
+      EXPECT_EQ(r.selfIntersections, 0);
+      // The remeshed surface keeps the horn: mesh-wide 0.86, 0.82 and 0.39% of the
+      // diagonal over 8, 12 and 16 base faces (2.0% over 8 until 2026-11-29, when the
+      // whole sphere but the horn was five base vertices); vertex by vertex 1.43% over 12
+      // faces (the base asked for 8 stops there too, saying why: the sphere's seven
+      // vertices then spread by importance, not evenly) and 0.25% over 16. Flattening the
+      // tip, as the simplification once did to reach 8 faces, is 6.3%.
+      DistanceOptions d;
+      d.samples = 20000;
+      const SurfaceDistance dist = surfaceDistance(r.mesh, input, d);
+      EXPECT_LT(dist.hausdorffRelative, stages == StageRelaxation::meshWide ? 0.01 : 0.02)
+          << dist.hausdorffRelative;
+    }
 }
 
 namespace {
@@ -283,22 +349,30 @@ TEST(Remesh, SimplifiesAnInputMadeOfSlivers) {
   // lets a removal make faces as skinny as the skinniest it replaces, never skinnier.
   const TriMesh input = cadCylinder(128, 3.0);
   validate(input, "cylinder");
-  RemeshOptions o;
-  o.baseFaces = 60;
-  o.levels = 3;
-  const Remeshing r = remesh(input, o);
-  EXPECT_LE(r.base.F.rows(), 60);
-  EXPECT_GT(r.base.F.rows(), 54);
-  EXPECT_TRUE(r.baseSizeReason.empty()) << r.baseSizeReason;
-  EXPECT_TRUE(remeshing::kStages[r.simplificationStage].orAsSkinnyAsReplaced);
-  EXPECT_EQ(remeshing::kStages[r.simplificationStage].sliverAngle, 0.0);
-  EXPECT_EQ(topology(r.mesh), topology(input));
-  EXPECT_EQ(r.cleanupMovedPoints, 0);
-  EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles + r.selfIntersections, 0);
-  // The rims are feature lines: the remesh keeps the cylinder's shape.
-  DistanceOptions d;
-  d.samples = 20000;
-  EXPECT_LT(surfaceDistance(r.mesh, input, d).hausdorffRelative, 1e-3);
+  for (const StageRelaxation stages : kRelaxations) {
+    SCOPED_TRACE(static_cast<int>(stages));
+    RemeshOptions o;
+    o.baseFaces = 60;
+    o.levels = 3;
+    o.stages = stages;
+    const Remeshing r = remesh(input, o);
+    EXPECT_LE(r.base.F.rows(), 60);
+    EXPECT_GT(r.base.F.rows(), 54);
+    EXPECT_TRUE(r.baseSizeReason.empty()) << r.baseSizeReason;
+    EXPECT_TRUE(remeshing::kStages[r.simplificationStage].orAsSkinnyAsReplaced);
+    // Mesh-wide, the stage before the last (which exempts slivers from the distortion
+    // bound) suffices; vertex by vertex, single vertices reach the last.
+    if (stages == StageRelaxation::meshWide) {
+      EXPECT_EQ(remeshing::kStages[r.simplificationStage].sliverAngle, 0.0);
+    }
+    EXPECT_EQ(topology(r.mesh), topology(input));
+    EXPECT_EQ(r.cleanupMovedPoints, 0);
+    EXPECT_EQ(r.flippedTriangles + r.degenerateTriangles + r.selfIntersections, 0);
+    // The rims are feature lines: the remesh keeps the cylinder's shape.
+    DistanceOptions d;
+    d.samples = 20000;
+    EXPECT_LT(surfaceDistance(r.mesh, input, d).hausdorffRelative, 1e-3);
+  }
 }
 
 // The remesh is a function of the surface: the input is renumbered along space first
