@@ -51,7 +51,10 @@ enum class StageRelaxation {
   /// perVertex, and where its remesh has defects beyond the input's own (flipped,
   /// zero-area, or crossing pairs away from the input's crossings) meshWide as well, the
   /// one with fewer defects kept: perVertex's accuracy where it samples cleanly,
-  /// meshWide's robustness where it does not, at twice the time there.
+  /// meshWide's robustness where it does not, at twice the time there. Over the corpus
+  /// of docs/REMESH.md against meshWide: RMS 0.80x, Hausdorff 0.87x, no run but the
+  /// cow's with a defect (as meshWide), 99 s in all against 125; but the clean-up moves
+  /// points on 56 of the 96 runs instead of 47.
   perVertexElseMeshWide,
 };
 
