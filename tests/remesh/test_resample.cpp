@@ -198,30 +198,3 @@ TEST(Resample, SpreadAroundCutsWideCornersKeepingOrder) {
   const std::vector<double> s3 = spreadAround({0.0, 0.5, 1.0}, saddle, kSpreadTo);
   EXPECT_LE(widestGap(s3, saddle), kSpreadTo + 1e-12);
 }
-
-// Both maps sampled in one pass (resampleBoth) are each what resample() gives alone:
-// the straightened map's walk starts where the exact map puts a point either way.
-TEST(Resample, BothMapsAtOnceAreEachMapAlone) {
-  const TriMesh input = subdivide(shapes::torus(), 3, Scheme::Loop, 0.01, 5);
-  const Features features = detectFeatures(input, 70.0);
-  const Simplification s = simplify(input, features, 60);
-  const Connectivity conn(input.F, static_cast<int>(input.V.rows()));
-  const BaseCharts charts(s.base);
-  const std::array<Resampled, 2> both = resampleBoth(input, conn, features.list, s, charts, 3);
-  for (int m = 0; m < 2; ++m) {
-    SCOPED_TRACE(m);
-    const Resampled alone = resample(input, conn, features.list, s, charts, 3,
-                                     m == 0 ? GridMap::straightened : GridMap::exact);
-    EXPECT_EQ(both[m].mesh.V, alone.mesh.V);
-    EXPECT_EQ(both[m].mesh.F, alone.mesh.F);
-    ASSERT_EQ(both[m].where.size(), alone.where.size());
-    for (std::size_t v = 0; v < alone.where.size(); ++v) {
-      EXPECT_EQ(both[m].where[v].triangle, alone.where[v].triangle);
-      EXPECT_EQ(both[m].where[v].bary, alone.where[v].bary);
-    }
-    EXPECT_EQ(both[m].free, alone.free);
-    EXPECT_EQ(both[m].line, alone.line);
-  }
-  // The two maps differ: the test compares two samplings, not one twice.
-  EXPECT_NE(both[0].mesh.V, both[1].mesh.V);
-}
