@@ -51,12 +51,28 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
-// The clean-up of the exact map's sampling, started on a second core when the
-// straightened map's repairs leave defects (and only then: most inputs need one map, and
-// most repairs succeed; started as soon as there was anything to repair, it slowed the
-// corpus's runs whose repairs then came out clean), and abandoned through its progress
-// callback if the last resort leaves the straightened one clean after all. Its result is
-// the one a sequential run would get: the maps share nothing that changes.
+// Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
+// up (`lastResort` as in cleanUp()).
+Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
+                            const SurfaceWalker& walker, const remeshing::Features& features,
+                            const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
+                            int levels, remeshing::GridMap map, const Progress& progress,
+                            const std::function<void()>& lastResort = {}) {
+  using namespace remeshing;
+  Remeshing out = common;
+  Resampled grid =
+      resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
+  out.mesh = std::move(grid.mesh);
+  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort);
+  return out;
+}
+
+// The exact map's remeshing, started on a second core when the straightened map's
+// repairs leave defects (and only then: most inputs need one map, and most repairs
+// succeed; started as soon as there was anything to repair, it slowed the corpus's
+// runs whose repairs then came out clean), and abandoned through its progress callback
+// if the last resort leaves the straightened one clean after all. Its result is the one
+// a sequential run would get: the maps share nothing that changes.
 class ExactMapBeside {
  public:
   template <class Run>
@@ -140,27 +156,24 @@ Remeshing remeshedOver(const TriMesh& input, const remeshing::Features& features
   // scans (the bunny over 600 base faces at J = 5: 2 sampled folds against 13), the
   // exact one on decimated inputs (the lion over 300: 61 against 4; the camel head
   // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
-  // the straightened map, none through the exact one). Both are sampled at once
-  // (resampleBoth: the straightened map's walk starts where the exact one puts a point),
-  // so that the exact map costs only its clean-up where it is needed.
-  std::array<Resampled, 2> grids =
-      resampleBoth(input, walker.connectivity(), features.list, s, charts, out.levels, progress);
-  auto cleaned = [&](int m, const Progress& p, const std::function<void()>& lastResort) {
-    Remeshing r = out;
-    r.mesh = std::move(grids[m].mesh);
-    if (m == 1) r.gridMap = "exact";
-    cleanUp(r, input, grids[m].free, grids[m].line, grids[m].where, walker, p, lastResort);
-    return r;
+  // the straightened map, none through the exact one).
+  auto exactMap = [&](const Progress& p) {
+    return sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::exact,
+                             p);
   };
   ExactMapBeside beside;
-  Remeshing best = cleaned(
-      0, progress, [&] { beside.start([&](const Progress& p) { return cleaned(1, p, {}); }); });
+  Remeshing best =
+      sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::straightened,
+                        progress, [&] { beside.start(exactMap); });
   const long long straightenedLeft = defectsLeft(best);
   long long exactLeft = -1;
   if (straightenedLeft > 0) {
-    Remeshing exact = beside.started() ? beside.get() : cleaned(1, progress, {});
+    Remeshing exact = beside.started() ? beside.get() : exactMap(progress);
     exactLeft = defectsLeft(exact);
-    if (exactLeft < straightenedLeft) best = std::move(exact);
+    if (exactLeft < straightenedLeft) {
+      best = std::move(exact);
+      best.gridMap = "exact";
+    }
   }
   best.straightenedDefects = straightenedLeft;
   best.exactDefects = exactLeft;

@@ -86,8 +86,7 @@ class Resampler {
       }
   }
 
-  std::vector<Resampled> run(int levels, const std::vector<GridMap>& maps,
-                             const Progress& progress);
+  Resampled run(int levels, GridMap map, const Progress& progress);
 
  private:
   bool isBoundaryEdge(int p, int q) const {
@@ -102,8 +101,7 @@ class Resampler {
               SurfacePoint& found) const;
   SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
   int newPoint(const Job& job, bool isFree, long long edge);
-  SurfacePoint place(const Job& job, GridMap map, const SurfacePoint* exact) const;
-  Vec3 positionOf(const SurfacePoint& where) const;
+  void place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const;
   Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
   SurfacePoint onLine(const Line& path, double at) const;
   int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
@@ -113,9 +111,8 @@ class Resampler {
   SurfacePoint pointAround(int x, const Cone& cone, double angle, double radius) const;
   std::vector<int> nextToVertex(int v) const;
   bool turnedOverCorner(int v, const std::vector<int>& points, const std::vector<double>& angle,
-                        double total, const std::vector<SurfacePoint>& where,
-                        const std::vector<Vec3>& positions) const;
-  void spreadCorners(int v, std::vector<SurfacePoint>& where, std::vector<Vec3>& positions);
+                        double total, const std::vector<Vec3>& positions) const;
+  void spreadCorners(int v, std::vector<Vec3>& positions);
 
   const TriMesh& input_;
   const Connectivity& inputConn_;
@@ -201,20 +198,17 @@ SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
 
 // Where a grid point lies on the input: on the input's line under its base edge, or at
 // its parameter through the exact inverse of the removals (traceToInput), made
-// straight on each input triangle (straight()) for GridMap::straightened. `exact`, if
-// given, is the point's place through the exact map already (the straightened map's
-// walk starts there).
-SurfacePoint Resampler::place(const Job& job, GridMap map, const SurfacePoint* exact) const {
-  if (job.line) return onLine(*job.line, job.at);
-  const SurfacePoint where = exact ? *exact : traceToInput(s_.history, job.face, job.bary);
-  return map == GridMap::straightened ? straight(job.face, job.bary, where) : where;
-}
-
-Vec3 Resampler::positionOf(const SurfacePoint& where) const {
-  Vec3 position = Vec3::Zero();
+// straight on each input triangle (straight()) for GridMap::straightened.
+void Resampler::place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const {
+  if (job.line) {
+    where = onLine(*job.line, job.at);
+  } else {
+    where = traceToInput(s_.history, job.face, job.bary);
+    if (map == GridMap::straightened) where = straight(job.face, job.bary, where);
+  }
+  position = Vec3::Zero();
   for (int i = 0; i < 3; ++i)
     position += where.bary[i] * input_.V.row(input_.F(where.triangle, i)).transpose();
-  return position;
 }
 
 // A new output vertex, placed later (run() places them all at once, on every core).
@@ -399,7 +393,6 @@ std::vector<int> Resampler::nextToVertex(int v) const {
 // the clean-up counts a flipped triangle (facesAlong).
 bool Resampler::turnedOverCorner(int v, const std::vector<int>& points,
                                  const std::vector<double>& angle, double total,
-                                 const std::vector<SurfacePoint>& where,
                                  const std::vector<Vec3>& positions) const {
   const int nbv = static_cast<int>(base_.V.rows()), m = static_cast<int>(points.size());
   const Vec3 c = input_.V.row(inputOf_[v]).transpose();
@@ -407,9 +400,9 @@ bool Resampler::turnedOverCorner(int v, const std::vector<int>& points,
     const int p = points[k], q = points[(k + 1) % m];
     if (gapAfter(angle, k, total) <= kPi) continue;
     const Vec3 n = (positions[p - nbv] - c).cross(positions[q - nbv] - c);
-    const bool along = facesAlong(input_, inputConn_, where[v], n) ||
-                       facesAlong(input_, inputConn_, where[p], n) ||
-                       facesAlong(input_, inputConn_, where[q], n);
+    const bool along = facesAlong(input_, inputConn_, out_.where[v], n) ||
+                       facesAlong(input_, inputConn_, out_.where[p], n) ||
+                       facesAlong(input_, inputConn_, out_.where[q], n);
     if (!along) return true;
   }
   return false;
@@ -425,8 +418,7 @@ bool Resampler::turnedOverCorner(int v, const std::vector<int>& points,
 // the ring) as it was. Elsewhere nothing is touched: a corner over a half turn of a
 // cone far from flat (a saddle, a crumple where the input crosses itself) need not turn
 // over, and spreading there folded the ogre's grid more (docs/REMESH.md).
-void Resampler::spreadCorners(int v, std::vector<SurfacePoint>& where,
-                              std::vector<Vec3>& positions) {
+void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
   const int x = inputOf_[v], nbv = static_cast<int>(base_.V.rows());
   if (baseConn_.isBoundaryVertex(v) || !baseConn_.isManifoldVertex(v) ||
       inputConn_.isBoundaryVertex(x) || !inputConn_.isManifoldVertex(x))
@@ -436,10 +428,10 @@ void Resampler::spreadCorners(int v, std::vector<SurfacePoint>& where,
   const Cone cone = coneOf(x);
   std::vector<double> angle;
   for (int id : points) {
-    angle.push_back(angleAround(x, cone, positions[id - nbv], where[id]));
+    angle.push_back(angleAround(x, cone, positions[id - nbv], out_.where[id]));
     if (angle.back() < 0) return;
   }
-  if (!turnedOverCorner(v, points, angle, cone.total(), where, positions)) return;
+  if (!turnedOverCorner(v, points, angle, cone.total(), positions)) return;
   const std::vector<double> spread = spreadAround(angle, cone.total(), kSpreadTo);
   if (spread == angle) return;  // out of order, or too many turns to spread
   const Vec3 c = input_.V.row(x).transpose();
@@ -451,13 +443,12 @@ void Resampler::spreadCorners(int v, std::vector<SurfacePoint>& where,
     const double radius =
         std::min(0.75, (positions[points[k] - nbv] - c).norm() / (rim - c).norm());
     w = pointAround(x, cone, spread[k], radius);
-    where[points[k]] = w;
+    out_.where[points[k]] = w;
     positions[points[k] - nbv] = c + radius * (rim - c);
   }
 }
 
-std::vector<Resampled> Resampler::run(int levels, const std::vector<GridMap>& maps,
-                                      const Progress& progress) {
+Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
   N_ = 1 << levels;
   const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
   // Base vertices are input vertices: a corner of any of their input triangles.
@@ -474,12 +465,12 @@ std::vector<Resampled> Resampler::run(int levels, const std::vector<GridMap>& ma
   out_.free.assign(nbv, 0);
   out_.line.assign(nbv, -1);
   for (int f = 0; f < nb; ++f) gridOfFace(f);
-  // The grid points, each independent of the others, through every map asked (the
-  // straightened map's walk starts where the exact one puts the point).
-  const int n = static_cast<int>(jobs_.size()), numMaps = static_cast<int>(maps.size());
+  // The grid points, each independent of the others.
+  const int n = static_cast<int>(jobs_.size());
   out_.where.resize(nbv + jobs_.size());
-  std::vector<std::vector<SurfacePoint>> where(numMaps, out_.where);
-  std::vector<std::vector<Vec3>> positions(numMaps, std::vector<Vec3>(jobs_.size()));
+  out_.mesh.V.resize(nbv + n, 3);
+  out_.mesh.V.topRows(nbv) = base_.V;
+  std::vector<Vec3> positions(jobs_.size());
   const int chunks = numChunks(n, 1 << 12);
   constexpr int kSteps = 64;  // progress reports, and the pieces each chunk works in
   std::atomic<int> done{0};
@@ -487,32 +478,18 @@ std::vector<Resampled> Resampler::run(int levels, const std::vector<GridMap>& ma
     for (int piece = 0; piece < kSteps; ++piece) {
       const int from = begin + (end - begin) * piece / kSteps;
       const int to = begin + (end - begin) * (piece + 1) / kSteps;
-      for (int i = from; i < to; ++i) {
-        const SurfacePoint exact = place(jobs_[i], GridMap::exact, nullptr);
-        for (int m = 0; m < numMaps; ++m) {
-          where[m][nbv + i] = place(jobs_[i], maps[m], &exact);
-          positions[m][i] = positionOf(where[m][nbv + i]);
-        }
-      }
+      for (int i = from; i < to; ++i) place(jobs_[i], map, out_.where[nbv + i], positions[i]);
       ++done;
       if (chunk == 0 && progress) progress("resample", double(done) / (chunks * kSteps));
     }
   });
   if (progress) progress("resample", 1.0);
-  std::vector<Resampled> out(numMaps);
-  for (int m = 0; m < numMaps; ++m) {
-    for (int v = 0; v < nbv; ++v) spreadCorners(v, where[m], positions[m]);
-    out[m].mesh.V.resize(nbv + n, 3);
-    out[m].mesh.V.topRows(nbv) = base_.V;
-    for (int i = 0; i < n; ++i) out[m].mesh.V.row(nbv + i) = positions[m][i].transpose();
-    out[m].mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
-    for (std::size_t f = 0; f < faces_.size(); ++f)
-      for (int k = 0; k < 3; ++k) out[m].mesh.F(f, k) = faces_[f][k];
-    out[m].where = std::move(where[m]);
-    out[m].free = out_.free;
-    out[m].line = out_.line;
-  }
-  return out;
+  for (int v = 0; v < nbv; ++v) spreadCorners(v, positions);
+  for (int i = 0; i < n; ++i) out_.mesh.V.row(nbv + i) = positions[i].transpose();
+  out_.mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    for (int k = 0; k < 3; ++k) out_.mesh.F(f, k) = faces_[f][k];
+  return std::move(out_);
 }
 
 }  // namespace
@@ -564,16 +541,7 @@ Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
                    const BaseCharts& charts, int levels, GridMap map, const Progress& progress) {
   Resampler r(input, inputConn, inputFeatures, s, charts);
-  return std::move(r.run(levels, {map}, progress)[0]);
-}
-
-std::array<Resampled, 2> resampleBoth(const TriMesh& input, const Connectivity& inputConn,
-                                      const std::vector<std::array<int, 2>>& inputFeatures,
-                                      const Simplification& s, const BaseCharts& charts, int levels,
-                                      const Progress& progress) {
-  Resampler r(input, inputConn, inputFeatures, s, charts);
-  std::vector<Resampled> both = r.run(levels, {GridMap::straightened, GridMap::exact}, progress);
-  return {std::move(both[0]), std::move(both[1])};
+  return r.run(levels, map, progress);
 }
 
 }  // namespace osdmra::remeshing

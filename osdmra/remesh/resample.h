@@ -18,7 +18,6 @@
 // one-ring at angles spread apart (spreadAround).
 #pragma once
 
-#include <array>
 #include <vector>
 
 #include "osdmra/base/progress.h"
@@ -77,13 +76,5 @@ Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
                    const BaseCharts& charts, int levels, GridMap map = GridMap::straightened,
                    const Progress& progress = {});
-
-/// resample() through both maps, [0] straightened and [1] exact, the grid laid once: the
-/// straightened map's walk starts where the exact map puts a point, so both cost little
-/// more than the straightened one alone.
-std::array<Resampled, 2> resampleBoth(const TriMesh& input, const Connectivity& inputConn,
-                                      const std::vector<std::array<int, 2>>& inputFeatures,
-                                      const Simplification& s, const BaseCharts& charts, int levels,
-                                      const Progress& progress = {});
 
 }  // namespace osdmra::remeshing
