@@ -107,7 +107,7 @@ struct SimplifyOptions {
   bool noNewCrossings = false;
   /// A vertex refused under its stage's limits in a round where a more important vertex
   /// is removed after it goes on under the next stage's limits, alone
-  /// (RemeshOptions::stagesPerVertex); otherwise the stages move for the whole mesh, only
+  /// (RemeshOptions::stages, StageRelaxation); otherwise the stages move for the whole mesh, only
   /// when no vertex can be removed.
   bool stagesPerVertex = false;
   /// Try each removal's retriangulations (the ear clipping, and the fans from each
