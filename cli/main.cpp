@@ -55,9 +55,9 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, three times with a
-                               budget: over a base of a half, a quarter and a
-                               sixteenth of it, the level of detail closest to
+                               --remesh as for analyze, four times with a
+                               budget: over a base of the budget, a half, a
+                               quarter and a sixteenth of it, the level of detail closest to
                                the input kept (all reported), unless --base-faces says otherwise (each
                                with as many levels, up to 5, as keep the remeshing
                                within 2^19 faces, unless --levels); the remeshing

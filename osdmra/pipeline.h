@@ -233,14 +233,17 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
 struct BudgetSearchOptions {
   /// Each trial remeshes over baseFacesForBudget(budget, divisor) base faces, in this
   /// order (largest base first).
-  /// A half leaves the level of detail one level of splits to choose among, a quarter
-  /// two, a sixteenth three: which is closer depends on the mesh, and nothing measured
-  /// predicts it, so all three are made. On the 48 rows of docs/LOD.md ("A scan as a
-  /// user gives it") a sixteenth was closer than a quarter on 10, by up to 32% RMS, a
-  /// quarter on 31, by up to 2.5x; a half was closer than both on 12 (fandisk at 388
-  /// triangles 0.55x, the screwdriver at 68 0.76x, armadillo at 2,594 and the lion at
-  /// 1,667 0.83x), farther on most large budgets of smooth scans.
-  std::vector<int> divisors = {2, 4, 16};
+  /// The whole budget makes the level of detail the base itself (the remesher's
+  /// simplification, its faces placed by the error they make), a half leaves it one level
+  /// of splits to choose among, a quarter two, a sixteenth three: which is closer depends
+  /// on the mesh, and nothing measured predicts it, so all four are made. On the 48 rows
+  /// of docs/LOD.md ("A scan as a user gives it") a sixteenth was closer than a quarter on
+  /// 10, by up to 32% RMS, a quarter on 31, by up to 2.5x; a half was closer than both on
+  /// 12 (fandisk at 388 triangles 0.55x, the screwdriver at 68 0.76x, armadillo at 2,594
+  /// and the lion at 1,667 0.83x). The whole budget, added on 2026-11-29, brought 21 of
+  /// 42 rows closer (RMS 0.92x geometric mean, fandisk at 1% 0.63x, the elephant at 3%
+  /// 0.70x), one farther by 3%, at the cost of a fourth remeshing.
+  std::vector<int> divisors = {1, 2, 4, 16};
   /// Remesh each base with as many levels, up to InputOptions::remeshing.levels, as
   /// keep the remeshing within kLodRemeshingFaces (or RemeshOptions::maxFaces when
   /// given), counted on the base the remesher made; off keeps InputOptions::remeshing.levels for

@@ -368,11 +368,12 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   a.scheme = Scheme::Linear;
   const long long budget = 400;
   const BudgetLod b = lodForBudget(c3.path, budget, c3.input, a, c3.search);
-  ASSERT_EQ(b.trials.size(), 3u);  // a half, a quarter and a sixteenth of the budget
-  EXPECT_EQ(b.trials[0].baseFacesAsked, 200);
-  EXPECT_EQ(b.trials[1].baseFacesAsked, 100);
-  EXPECT_EQ(b.trials[2].baseFacesAsked, 25);
-  ASSERT_TRUE(b.chosen >= 0 && b.chosen < 3);
+  ASSERT_EQ(b.trials.size(), 4u);  // the budget, a half, a quarter and a sixteenth of it
+  EXPECT_EQ(b.trials[0].baseFacesAsked, 400);
+  EXPECT_EQ(b.trials[1].baseFacesAsked, 200);
+  EXPECT_EQ(b.trials[2].baseFacesAsked, 100);
+  EXPECT_EQ(b.trials[3].baseFacesAsked, 25);
+  ASSERT_TRUE(b.chosen >= 0 && b.chosen < 4);
   const BaseTrial& kept = b.trials[b.chosen];
   for (const BaseTrial& t : b.trials) {
     EXPECT_LE(t.triangles, budget);
@@ -402,10 +403,12 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
 TEST(LodForBudget, TriesCoincidingSizesOnce) {
   BudgetCase t(1, 500);
   const BudgetLod b = lodForBudget(t.path, 8, t.input, AnalysisOptions{}, t.search);
-  ASSERT_EQ(b.trials.size(), 1u);
-  EXPECT_EQ(b.trials[0].baseFacesAsked, 4);
-  EXPECT_GT(b.trials[0].baseFaces, 4);  // a torus needs more: over the budget, said later
-  EXPECT_EQ(b.lod.triangles(), b.trials[0].baseFaces);
+  ASSERT_EQ(b.trials.size(), 2u);
+  EXPECT_EQ(b.trials[0].baseFacesAsked, 8);
+  EXPECT_EQ(b.trials[1].baseFacesAsked, 4);
+  for (const BaseTrial& trial : b.trials)
+    EXPECT_GT(trial.baseFaces, 8);  // a torus needs more: over the budget, said later
+  EXPECT_EQ(b.lod.triangles(), b.trials[b.chosen].baseFaces);
   EXPECT_THROW(lodForBudget(t.path, 0, t.input, AnalysisOptions{}, t.search), Error);
   t.search.divisors.clear();
   EXPECT_THROW(lodForBudget(t.path, 8, t.input, AnalysisOptions{}, t.search), Error);
@@ -417,10 +420,10 @@ TEST(LodForBudget, ConcurrentTrialsGiveTheSequentialResult) {
   const BudgetLod at = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
   t.search.concurrently = false;
   const BudgetLod after = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
-  ASSERT_EQ(at.trials.size(), 3u);  // more trials than cores
-  ASSERT_EQ(after.trials.size(), 3u);
+  ASSERT_EQ(at.trials.size(), 4u);  // more trials than cores
+  ASSERT_EQ(after.trials.size(), 4u);
   EXPECT_EQ(at.chosen, after.chosen);
-  for (std::size_t i = 0; i < 3; ++i) {
+  for (std::size_t i = 0; i < 4; ++i) {
     EXPECT_EQ(at.trials[i].baseFaces, after.trials[i].baseFaces);
     EXPECT_EQ(at.trials[i].triangles, after.trials[i].triangles);
     EXPECT_EQ(at.trials[i].rmsRelative, after.trials[i].rmsRelative);
