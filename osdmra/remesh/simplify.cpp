@@ -27,6 +27,7 @@ namespace {
 // every point of the old faces goes in them.
 struct Plan {
   Ring ring;
+  const StageLimits* limits = nullptr;  // of the removed vertex's stage (stageOf)
   int featureAt = -1;
   Flattening flat;
   std::vector<std::array<int, 3>> triangles;
@@ -138,7 +139,6 @@ class Simplifier {
   // The stage whose limits a removal of v meets: the mesh's, or v's own where v was
   // passed over for more important removals (stagesPerVertex).
   std::size_t stageOf(int v) const { return std::max(stage_, std::size_t{ownStage_[v]}); }
-  const StageLimits& limits() const { return stages_[stageOf(planning_)]; }
   void relaxPassedOver(const std::vector<int>& passedOver);
 
   const Points& V_;
@@ -164,7 +164,6 @@ class Simplifier {
   std::size_t stage_ = 0;
   bool stagesPerVertex_ = false;
   std::vector<unsigned char> ownStage_;  // per vertex, under stagesPerVertex_
-  int planning_ = 0;                     // the vertex plan() works on
   std::size_t stageUsed_ = 0;            // the last stage a removal was made under
   int aliveFaces_ = 0, plans_ = 0;
   int refusal_ = kShape;
@@ -276,7 +275,7 @@ bool Simplifier::hasEdge(int a, int b) const {
 // the points of the old faces are placed in the new ones and the distortion checked.
 bool Simplifier::plan(int v, const Ring& around, Plan& p) {
   ++plansMade_;
-  planning_ = v;
+  p.limits = &stages_[stageOf(v)];
   p.ring = around;  // into the plan's lists, kept from plan to plan
   Ring& r = p.ring;
   refusal_ = kCorner;
@@ -306,7 +305,7 @@ bool Simplifier::plan(int v, const Ring& around, Plan& p) {
   // A strongly curved one-ring (a cone tip, a saddle) flattens with much distortion:
   // keep such vertices while flatter ones remain. Folds of a scan go at any exponent.
   const double a = p.flat.exponent;
-  if (!fold_[v] && (a > limits().power || a < 1 / limits().power)) {
+  if (!fold_[v] && (a > p.limits->power || a < 1 / p.limits->power)) {
     refusal_ = kCurved;
     return false;
   }
@@ -394,8 +393,8 @@ void Simplifier::passOnQuadric(int v, const Ring& ring) {
 // bounded distortion (`worst`: the largest anisotropy).
 bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   if (!isBijective(p.flat, p.triangles, p.ring.boundary)) return false;
-  double minAngle = limits().flatAngle * kPi / 180;
-  if (limits().orAsSkinnyAsReplaced)
+  double minAngle = p.limits->flatAngle * kPi / 180;
+  if (p.limits->orAsSkinnyAsReplaced)
     for (int k = 0; k < p.ring.numFaces(); ++k)
       minAngle =
           std::min(minAngle, smallestAngle(Vec2::Zero(), p.flat.points[k], p.flat.points[k + 1]));
@@ -420,7 +419,7 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
   refusal_ = std::max(refusal_, static_cast<int>(kDistortion));
   if (!placePoints(v, p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
-  if (worst > limits().anisotropy) return false;
+  if (worst > p.limits->anisotropy) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kTip));
   if (unbalancesTips(p)) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kCrossing));
@@ -657,9 +656,9 @@ double Simplifier::distortion(const Plan& p) {
       std::array<Vec2, 3> image;
       if (!chartImage(V_, at, facesAround, image)) return std::numeric_limits<double>::infinity();
       const double a = anisotropyFromFlat(inputFlat_[t], image);
-      if (smallestAngle_[t] < limits().sliverAngle && a < std::numeric_limits<double>::infinity())
+      if (smallestAngle_[t] < p.limits->sliverAngle && a < std::numeric_limits<double>::infinity())
         continue;
-      if (!(a <= limits().anisotropy)) return std::numeric_limits<double>::infinity();
+      if (!(a <= p.limits->anisotropy)) return std::numeric_limits<double>::infinity();
       worst = std::max(worst, a);
     }
   return worst;

@@ -344,24 +344,18 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
                                 "\"straightened_defects\": 0, \"exact_defects\": -1}"),
             std::string::npos)
       << unsmoothed.out;
-  const Result negative =
-      run("remesh " + path("t3.obj") + " --smoothing-sweeps -1 -o " + path("n.ply"));
-  EXPECT_NE(negative.status, 0);
-  EXPECT_NE(negative.err.find("--smoothing-sweeps"), std::string::npos) << negative.err;
-  EXPECT_FALSE(fs::exists(path("n.ply")));
+  // An option out of its range is refused, naming the option, and nothing is written.
+  auto rejects = [&](const std::string& option, const std::string& message) {
+    SCOPED_TRACE(option);
+    const Result bad = run("remesh " + path("t3.obj") + " " + option + " -o " + path("n.ply"));
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(path("n.ply")));
+  };
+  rejects("--smoothing-sweeps -1", "--smoothing-sweeps");
   // --stages takes auto, vertex or mesh, and names what it got otherwise.
-  const Result stages = run("remesh " + path("t3.obj") + " --stages edge -o " + path("n.ply"));
-  EXPECT_NE(stages.status, 0);
-  EXPECT_NE(stages.err.find("--stages: expected auto, vertex or mesh, got 'edge'"),
-            std::string::npos)
-      << stages.err;
-  EXPECT_FALSE(fs::exists(path("n.ply")));
-  const Result how = run("remesh " + path("t3.obj") + " --retriangulation fan -o " + path("n.ply"));
-  EXPECT_NE(how.status, 0);
-  EXPECT_NE(how.err.find("--retriangulation: expected shape or error, got 'fan'"),
-            std::string::npos)
-      << how.err;
-  EXPECT_FALSE(fs::exists(path("n.ply")));
+  rejects("--stages edge", "--stages: expected auto, vertex or mesh, got 'edge'");
+  rejects("--retriangulation fan", "--retriangulation: expected shape or error, got 'fan'");
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.
