@@ -51,6 +51,7 @@ Json remeshJson(const RemeshReport& r) {
                                   .add("left", r.zeroArea.left))
       .add("input_self_intersections", r.inputSelfIntersections)
       .add("feature_edges", r.result.featureEdges)
+      .add("feature_edges_dropped", r.result.featureEdgesDropped)
       .add("tips", r.result.tips)
       .add("base_vertices", static_cast<int>(r.result.base.V.rows()))
       .add("base_faces", static_cast<int>(r.result.base.F.rows()))

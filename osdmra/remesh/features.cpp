@@ -62,27 +62,49 @@ std::vector<std::vector<int>> adjacency(const std::unordered_set<std::uint64_t>&
   return adj;
 }
 
+double lineLength(const Points& V, const std::vector<int>& line) {
+  double length = 0;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i)
+    length += (V.row(line[i + 1]) - V.row(line[i])).norm();
+  return length;
+}
+
 // A feature must be a chain of at least kMinChain edges between its ends (vertices
 // with other than two feature edges), or a closed loop; the rest are dropped, so that
-// they neither pin vertices in the base mesh nor bend the parameterisation.
-std::unordered_set<std::uint64_t> pruneShortChains(const std::unordered_set<std::uint64_t>& edges,
-                                                   int n) {
+// they neither pin vertices in the base mesh nor bend the parameterisation. A line on
+// its own (both ends free, or closed) shorter than `minLength` is dropped too: a base of
+// the size asked could follow it only with base vertices closer together than its own
+// edges (two at its ends, three around a loop), which is what made bases come out
+// larger than asked on scans with short creases (the boot of odedstein/meshes: 86 such
+// lines, a base of 858 faces for 150).
+std::unordered_set<std::uint64_t> pruneShortChains(const Points& V,
+                                                   const std::unordered_set<std::uint64_t>& edges,
+                                                   double minLength) {
+  const int n = static_cast<int>(V.rows());
   const std::vector<std::vector<int>> adj = adjacency(edges, n);
   std::unordered_set<std::uint64_t> seen, keep;
+  auto take = [&](const std::vector<int>& line, bool kept) {
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+      seen.insert(edgeKey(line[i], line[i + 1]));
+      if (kept) keep.insert(edgeKey(line[i], line[i + 1]));
+    }
+  };
   for (int v = 0; v < n; ++v) {
     if (adj[v].empty() || adj[v].size() == 2) continue;  // chains start at their ends
     for (int w : adj[v]) {
       if (seen.count(edgeKey(v, w))) continue;
       const std::vector<int> chain = followLine(adj, v, w, [](int) { return false; });
-      const bool kept = static_cast<int>(chain.size()) - 1 >= kMinChain;
-      for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
-        seen.insert(edgeKey(chain[i], chain[i + 1]));
-        if (kept) keep.insert(edgeKey(chain[i], chain[i + 1]));
-      }
+      const bool alone = adj[v].size() == 1 && adj[chain.back()].size() == 1;
+      take(chain, static_cast<int>(chain.size()) - 1 >= kMinChain &&
+                      !(alone && lineLength(V, chain) < minLength));
     }
   }
-  for (std::uint64_t k : edges)  // closed loops: every vertex has two
-    if (!seen.count(k)) keep.insert(k);
+  for (int v = 0; v < n; ++v)  // closed loops: every vertex has two
+    for (int w : adj[v])
+      if (!seen.count(edgeKey(v, w))) {
+        const std::vector<int> loop = followLine(adj, v, w, [](int) { return false; });
+        take(loop, lineLength(V, loop) >= minLength);
+      }
   return keep;
 }
 
@@ -191,7 +213,8 @@ std::vector<char> foldVertices(const TriMesh& m, const std::vector<char>& foldFa
 
 }  // namespace
 
-Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySpan) {
+Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySpan,
+                        double minLineLength) {
   const int n = static_cast<int>(m.V.rows());
   Features out;
   std::vector<Vec3> faceNormals(m.F.rows());
@@ -214,7 +237,7 @@ Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySp
     if (!(sides < cosLimit)) continue;
     sharp.insert(edgeKey(c.from(h), c.to(h)));
   }
-  out.edges = pruneShortChains(sharp, n);
+  out.edges = pruneShortChains(m.V, sharp, minLineLength);
   for (std::uint64_t k : out.edges)
     out.list.push_back({static_cast<int>(k >> 32), static_cast<int>(k & 0xffffffffu)});
   // Corners of feature lines: where a line turns sharply (the fandisk's creases meet at

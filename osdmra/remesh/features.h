@@ -14,7 +14,8 @@ namespace osdmra::remeshing {
 
 struct Features {
   /// Feature edges (edgeKey of their vertices): dihedral angle above the threshold,
-  /// in chains of at least kMinChain edges or closed loops, folds excluded.
+  /// in chains of at least kMinChain edges or closed loops, folds excluded (and lines on
+  /// their own shorter than detectFeatures' minLineLength).
   std::unordered_set<std::uint64_t> edges;
   std::vector<std::array<int, 2>> list;  ///< the same edges as vertex pairs
   /// Vertices where a feature line or a boundary turns by more than kMaxTurn (a
@@ -38,12 +39,14 @@ constexpr double kMaxTurn = 40.0;
 /// the z^a flattening the simplification uses (1.875, simplify.h's kStages).
 constexpr double kMaxTipAngle = 192.0;
 
-/// The features of a valid mesh at `featureAngle` degrees (180: none). A boundary's
+/// The features of a valid mesh at `featureAngle` degrees (180: none). A feature line
+/// on its own (both ends free, or closed) shorter than `minLineLength` is none. A boundary's
 /// turn at a vertex is measured between the points `boundarySpan` away along it on
 /// either side (two edges at least), and only the vertex turning most within that reach
 /// is a corner: bends finer than that are not (remesh() passes half the edge of a base
 /// face of the size asked for, which could not follow them anyway).
-Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundarySpan = 0);
+Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundarySpan = 0,
+                        double minLineLength = 0);
 
 /// The vertices of a line (`along[v]`: v's neighbours on it) from `from` through
 /// `next`, on through vertices with exactly two neighbours, up to one that `stops`,

@@ -123,7 +123,10 @@ struct Remeshing {
   /// clean-up moved (to another point of the input).
   TriMesh base;
   int featureEdges = 0;  ///< input edges taken as features
-  int tips = 0;          ///< input vertices kept as tips of protrusions (features.h)
+  /// Feature edges left out: lines on their own shorter than a base edge, dropped where
+  /// the base would otherwise have more than 10% more faces than asked (features.h).
+  int featureEdgesDropped = 0;
+  int tips = 0;  ///< input vertices kept as tips of protrusions (features.h)
   /// Why the base has more faces than asked (empty when it has not).
   std::string baseSizeReason;
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)

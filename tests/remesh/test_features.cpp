@@ -140,3 +140,26 @@ TEST(Features, ATipIsACornerThoughOneOfItsFacesLooksFolded) {
   EXPECT_TRUE(features.corner[h.tip]);
   EXPECT_EQ(std::count(features.tip.begin(), features.tip.end(), 1), 1);
 }
+
+// A feature line on its own is kept only as long as the length asked for: a plate of
+// n x n unit cells bent by 90 degrees along x = n / 2 has one crease, n edges long, from
+// rim to rim. remesh() asks for a base edge where the base would otherwise be over size:
+// a base following a shorter line would need two vertices closer together than its own
+// edges. A cube's edges, which meet at its corners, are no line on its own.
+TEST(Features, ALineOnItsOwnShorterThanAskedIsNoFeature) {
+  const int n = 12;
+  TriMesh plate = raggedPlate(n);
+  for (Eigen::Index v = 0; v < plate.V.rows(); ++v) {
+    plate.V(v, 1) = static_cast<double>(v / (n + 1));  // a straight rim
+    if (plate.V(v, 0) > n / 2) {
+      plate.V(v, 2) = plate.V(v, 0) - n / 2;
+      plate.V(v, 0) = n / 2;
+    }
+  }
+  EXPECT_EQ(detectFeatures(plate, 70.0).edges.size(), static_cast<std::size_t>(n));
+  EXPECT_EQ(detectFeatures(plate, 70.0, 0.0, n - 0.5).edges.size(), static_cast<std::size_t>(n));
+  EXPECT_TRUE(detectFeatures(plate, 70.0, 0.0, n + 0.5).edges.empty());
+
+  const TriMesh cube = subdivide(unitCube(), 4, Scheme::Linear);
+  EXPECT_EQ(detectFeatures(cube, 70.0, 0.0, 10.0).edges.size(), 12u * 16u);
+}
