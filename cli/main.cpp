@@ -76,8 +76,11 @@ commands:
                                with a warning on stderr (and in the JSON) if any
                                are, if the result is over 1% of the diagonal from
                                the input somewhere, or if the base has more faces
-                               than asked (it keeps tips of protrusions);
-                               components of fewer than F faces are dropped first
+                               than asked (it keeps tips of protrusions and
+                               feature lines, but drops lines on their own
+                               shorter than a base edge where the base would
+                               be over size); components of fewer than F faces
+                               are dropped first
                                (default 0: all kept); with --max-faces, a base
                                larger than asked is split fewer times, keeping the
                                output within M faces; S sweeps (default 10, 0:

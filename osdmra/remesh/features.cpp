@@ -74,9 +74,7 @@ double lineLength(const Points& V, const std::vector<int>& line) {
 // they neither pin vertices in the base mesh nor bend the parameterisation. A line on
 // its own (both ends free, or closed) shorter than `minLength` is dropped too: a base of
 // the size asked could follow it only with base vertices closer together than its own
-// edges (two at its ends, three around a loop), which is what made bases come out
-// larger than asked on scans with short creases (the boot of odedstein/meshes: 86 such
-// lines, a base of 858 faces for 150).
+// edges (two at its ends, three around a loop).
 std::unordered_set<std::uint64_t> pruneShortChains(const Points& V,
                                                    const std::unordered_set<std::uint64_t>& edges,
                                                    double minLength) {

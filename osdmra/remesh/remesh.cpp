@@ -149,6 +149,26 @@ bool overSize(const remeshing::Simplification& s, const RemeshOptions& options) 
   return s.base.F.rows() > 1.1 * options.baseFaces;
 }
 
+// Step 1: the simplification with every feature line, and where its base is over size,
+// without the short lines on their own as well, the smaller base kept (`chosen`: the
+// features it was made with).
+remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureChoice& choice,
+                                           const RemeshOptions& options,
+                                           const remeshing::SimplifyOptions& how,
+                                           const Progress& progress,
+                                           const remeshing::Features*& chosen) {
+  using namespace remeshing;
+  chosen = &choice.all();
+  Simplification s = simplify(input, *chosen, options.baseFaces, progress, kStages, how);
+  if (!overSize(s, options) || choice.withoutShortLines().list.size() == chosen->list.size())
+    return s;
+  Simplification t =
+      simplify(input, choice.withoutShortLines(), options.baseFaces, progress, kStages, how);
+  if (t.base.F.rows() >= s.base.F.rows()) return s;
+  chosen = &choice.withoutShortLines();
+  return t;
+}
+
 // Steps 1 to 3 (remesh()) with the simplification's stages relaxed vertex by vertex or
 // mesh-wide.
 Remeshing remeshedOver(const TriMesh& input, const FeatureChoice& choice,
@@ -162,16 +182,8 @@ Remeshing remeshedOver(const TriMesh& input, const FeatureChoice& choice,
   how.noNewCrossings = options.baseWithoutNewCrossings;
   how.stagesPerVertex = stagesPerVertex;
   how.retriangulateByError = options.retriangulateByError;
-  const Features* chosen = &choice.all();
-  Simplification s = simplify(input, *chosen, options.baseFaces, progress, kStages, how);
-  if (overSize(s, options) && choice.withoutShortLines().list.size() < chosen->list.size()) {
-    Simplification t =
-        simplify(input, choice.withoutShortLines(), options.baseFaces, progress, kStages, how);
-    if (t.base.F.rows() < s.base.F.rows()) {
-      s = std::move(t);
-      chosen = &choice.withoutShortLines();
-    }
-  }
+  const Features* chosen = nullptr;
+  Simplification s = simplifiedWithin(input, choice, options, how, progress, chosen);
   const Features& features = *chosen;
   out.featureEdges = static_cast<int>(features.list.size());
   out.featureEdgesDropped = static_cast<int>(choice.all().list.size() - features.list.size());
