@@ -144,7 +144,7 @@ class FeatureChoice {
   mutable remeshing::Features shorter_;
 };
 
-// The size issue 13 asks bases to keep to: within 10% of the request.
+// Whether a base is over the size asked by more than 10% (what docs/REMESH.md counts).
 bool overSize(const remeshing::Simplification& s, const RemeshOptions& options) {
   return s.base.F.rows() > 1.1 * options.baseFaces;
 }
