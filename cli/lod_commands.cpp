@@ -104,8 +104,9 @@ int cmdLod(const Argv& argv) {
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   const InputOptions input = inputOptions(args, true);
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
-  // remeshes over the budget, a half, a quarter and a sixteenth of it and keeps the
-  // closest level of detail, unless --base-faces fixes the base (and --levels the levels).
+  // remeshes over the budget, a half, a quarter and a sixteenth of it (and cuts the
+  // input's own hierarchy, where it has one) and keeps the closest level of detail, unless
+  // --base-faces fixes the base (and --levels the levels).
   std::optional<BudgetLod> searched;
   std::optional<LoadedSurface> loaded;
   std::optional<AnalysedSurface> analysed;
@@ -117,7 +118,7 @@ int cmdLod(const Argv& argv) {
     search.stagesPerVertex = input.remeshing.stages == StageRelaxation::perVertex;
     search.retriangulateByError = input.remeshing.retriangulateByError;
     searched = lodForBudget(in, budget, input, options, search, opt.progress);
-    printRemeshWarnings(in, *searched->surface.remeshing);
+    if (searched->surface.remeshing) printRemeshWarnings(in, *searched->surface.remeshing);
     x = std::move(searched->lod);
     tExtract = searched->extractSeconds;
   } else {

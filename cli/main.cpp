@@ -57,8 +57,10 @@ commands:
                                by area on the surface, not on the base domain;
                                --remesh as for analyze, four times with a
                                budget: over a base of the budget, a half, a
-                               quarter and a sixteenth of it, the level of detail closest to
-                               the input kept (all reported), unless --base-faces says otherwise (each
+                               quarter and a sixteenth of it (and the input's own
+                               hierarchy cut, where it has one), the level of
+                               detail closest to the input kept (all reported),
+                               unless --base-faces says otherwise (each
                                with as many levels, up to 5, as keep the remeshing
                                within 2^19 faces, unless --levels); the remeshing
                                and the level of detail's distance to the input as

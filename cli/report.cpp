@@ -174,6 +174,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("crossing_pairs", t.crossingPairs)
                     .add("rms_relative", t.rmsRelative)
                     .add("seconds", t.seconds)
+                    .add("input_hierarchy", t.inputHierarchy)
                     .add("kept", static_cast<int>(i) == b.chosen));
   }
   return trials;
@@ -182,11 +183,13 @@ Json baseTrialsJson(const BudgetLod& b) {
 void printBaseTrials(const BudgetLod& b) {
   for (std::size_t i = 0; i < b.trials.size(); ++i) {
     const BaseTrial& t = b.trials[i];
+    char asked[32];
+    std::snprintf(asked, sizeof asked, "%d asked", t.baseFacesAsked);
     std::printf(
-        "base of %d faces (%d asked), J = %d: %d triangles, sampled RMS to the input "
+        "base of %d faces (%s), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",
-        t.baseFaces, t.baseFacesAsked, t.levels, t.triangles, t.rmsRelative, t.seconds,
-        t.crossingPairs > 0 ? ", crosses itself" : "",
+        t.baseFaces, t.inputHierarchy ? "the input's own" : asked, t.levels, t.triangles,
+        t.rmsRelative, t.seconds, t.crossingPairs > 0 ? ", crosses itself" : "",
         static_cast<int>(i) == b.chosen ? ", kept" : "");
   }
 }

@@ -345,13 +345,28 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
 
 namespace {
 
-// One trial of lodForBudget: `input` remeshed over `baseFaces`, analysed, cut at the
+// One trial of lodForBudget: a remeshing of the input, or the input itself, cut at the
 // budget and measured against the input.
 struct Trial {
   BaseTrial row;
   BudgetLod lod;
 };
 
+// A trial's surface (t.lod.surface.mesh) analysed, cut at the budget and measured
+// against the input.
+void cutAndMeasure(const TriMesh& input, long long budget, const AnalysisOptions& analysis,
+                   const BudgetSearchOptions& search, const Progress& progress, Trial& t) {
+  const AnalysedSurface& a =
+      t.lod.analysed.emplace(t.lod.surface.mesh, analysis, t.lod.surface.source, progress);
+  const auto t1 = Clock::now();
+  t.lod.lod = a.approximator().budget(budget);
+  t.lod.extractSeconds = secondsSince(t1);
+  t.row.triangles = t.lod.lod.triangles();
+  t.row.crossingPairs = findSelfIntersections(t.lod.lod.mesh, 0).count;
+  t.row.rmsRelative = surfaceDistance(t.lod.lod.mesh, input, search.selection).rmsRelative;
+}
+
+// The trial of `input` remeshed over `baseFaces`.
 Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::string& path,
               long long budget, int baseFaces, InputOptions options,
               const AnalysisOptions& analysis, const BudgetSearchOptions& search,
@@ -369,16 +384,31 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   measureRemeshing(input, path, options, progress, *s.remeshing);
   s.mesh = s.remeshing->result.mesh;
   s.seconds = secondsSince(t0);
-  t.lod.analysed.emplace(s.mesh, analysis, path, progress);
-  const auto t1 = Clock::now();
-  t.lod.lod = t.lod.analysed->approximator().budget(budget);
-  t.lod.extractSeconds = secondsSince(t1);
   t.row.baseFacesAsked = baseFaces;
   t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
   t.row.levels = s.remeshing->result.levels;
-  t.row.triangles = t.lod.lod.triangles();
-  t.row.crossingPairs = findSelfIntersections(t.lod.lod.mesh, 0).count;
-  t.row.rmsRelative = surfaceDistance(t.lod.lod.mesh, input, search.selection).rmsRelative;
+  cutAndMeasure(input, budget, analysis, search, progress, t);
+  t.row.seconds = secondsSince(t0);
+  return t;
+}
+
+// The trial of the input's own hierarchy, where it has one whose base fits in the
+// budget (BudgetSearchOptions::inputHierarchy): the input analysed as it is, with every
+// level it has. A base over the budget is no trial: a remeshing can go coarser.
+std::optional<Trial> tryInputHierarchy(const TriMesh& input, const std::string& path,
+                                       long long budget, AnalysisOptions analysis,
+                                       const BudgetSearchOptions& search) {
+  const auto t0 = Clock::now();
+  const Recovery r = recoverSubdivision(input.F, static_cast<int>(input.V.rows()));
+  if (r.levels < 1 || r.baseFaces.rows() > budget) return std::nullopt;
+  Trial t;
+  t.lod.surface.source = path;
+  t.lod.surface.mesh = input;
+  t.row.inputHierarchy = true;
+  analysis.levels = -1;
+  cutAndMeasure(input, budget, analysis, search, {}, t);
+  t.row.baseFaces = t.lod.analysed->hierarchy().numFaces(0);
+  t.row.levels = t.lod.analysed->levels();
   t.row.seconds = secondsSince(t0);
   return t;
 }
@@ -440,21 +470,28 @@ BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const s
     return tryBase(mesh, repairs, path, budget, ask, input, analysis, search, p);
   };
   // The first trial in this thread, reporting progress; the others beside it.
+  const auto policy = search.concurrently ? std::launch::async : std::launch::deferred;
   std::vector<std::future<Trial>> others;
   for (std::size_t i = 1; i < asks.size(); ++i)
-    others.push_back(std::async(search.concurrently ? std::launch::async : std::launch::deferred,
-                                run, asks[i], Progress{}));
+    others.push_back(std::async(policy, run, asks[i], Progress{}));
+  std::future<std::optional<Trial>> own;
+  if (search.inputHierarchy)
+    own = std::async(policy, tryInputHierarchy, std::cref(mesh), std::cref(path), budget, analysis,
+                     std::cref(search));
   std::vector<Trial> trials;
   trials.push_back(run(asks[0], progress));
   if (!others.empty()) report(progress, "waiting for the other base sizes", 0);
   for (std::future<Trial>& f : others) trials.push_back(f.get());
+  if (own.valid())
+    if (std::optional<Trial> t = own.get()) trials.push_back(std::move(*t));
   int chosen = 0;
   for (int i = 1; i < static_cast<int>(trials.size()); ++i)
     if (better(trials[i].row, trials[chosen].row, budget)) chosen = i;
   BudgetLod out = std::move(trials[chosen].lod);
   out.chosen = chosen;
   for (const Trial& t : trials) out.trials.push_back(t.row);
-  out.surface.remeshing->input = mesh;  // what the level of detail is measured against
+  // What the level of detail is measured against.
+  if (out.surface.remeshing) out.surface.remeshing->input = mesh;
   out.surface.seconds = secondsSince(t0);
   return out;
 }

@@ -265,10 +265,19 @@ struct BudgetSearchOptions {
   /// stagesPerVertex, on the same rows: within 1.3x of CGAL Garland-Heckbert's RMS on 38
   /// instead of 34, both of issue 14's targets on 37 instead of 34).
   bool retriangulateByError = true;
+  /// Where the input has subdivision connectivity, cut its own hierarchy at the budget
+  /// too (no remeshing: a trial of its own, BaseTrial::inputHierarchy), so that
+  /// remeshing a semi-regular input is kept only where it brings the level of detail
+  /// closer (docs/LOD.md: on the J = 5 remeshes of the comparison it did at some budgets
+  /// and not at others).
+  bool inputHierarchy = true;
 };
 
 /// One base size lodForBudget tried.
 struct BaseTrial {
+  /// The input's own hierarchy rather than a remeshing (BudgetSearchOptions::
+  /// inputHierarchy); baseFacesAsked is then 0.
+  bool inputHierarchy = false;
   int baseFacesAsked = 0, baseFaces = 0, levels = 0;
   int triangles = 0;  ///< of its level of detail at the budget
   /// Pairs of its level of detail's triangles that cross without being neighbours
@@ -280,7 +289,9 @@ struct BaseTrial {
 
 /// What lodForBudget kept.
 struct BudgetLod {
-  LoadedSurface surface;  ///< the remeshing kept; its RemeshReport::input the repaired input
+  /// The remeshing kept, its RemeshReport::input the repaired input; or the input
+  /// itself, without a RemeshReport, where its own hierarchy was kept.
+  LoadedSurface surface;
   std::optional<AnalysedSurface> analysed;  ///< its analysis
   Approximation lod;                        ///< its level of detail at the budget
   double extractSeconds = 0;                ///< that extraction's time
@@ -293,7 +304,8 @@ struct BudgetLod {
 /// tiny budget tried once) remeshes it over that base size, analyses the remeshing with
 /// `analysis`, extracts the level of detail of at most `budget` triangles and measures
 /// it against the input; keeps the closest (one within the budget before one over it,
-/// then one that does not cross itself before one that does).
+/// then one that does not cross itself before one that does). Where the input has
+/// subdivision connectivity, its own hierarchy is one more trial (search.inputHierarchy).
 /// The remesher's simplification places the base's vertices and the level of detail
 /// only splits its faces, so the base's size and layout decide much of the error, and
 /// no rule predicts the better one per mesh. Each trial costs one remeshing and

@@ -413,7 +413,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(lod.out.find("\"to_input\": {\"rms_relative\": "), std::string::npos) << lod.out;
   // Without --base-faces, a budget remeshes over the budget, a half, a quarter and a
   // sixteenth of it, so that a small budget can be met (a base of the default 300 faces
-  // could not), and keeps the closest: every trial reported, one kept.
+  // could not), cuts the input's own hierarchy where it has one, and keeps the closest:
+  // every trial reported, one kept.
   const Result small =
       run("lod " + path("t3.obj") + " --remesh --levels 2 --budget 200 --samples 2000 --json -o " +
           path("l.obj"));
@@ -424,6 +425,15 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 50,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"crossing_pairs\": 0, \"rms_relative\": ", trials), std::string::npos)
+      << small.out;
+  // The torus has subdivision connectivity (3 levels over 48 faces): its own hierarchy is
+  // one more trial, the remeshings the others.
+  EXPECT_NE(small.out.find("{\"base_faces_asked\": 0, \"base_faces\": 48, \"levels\": 3,", trials),
+            std::string::npos)
+      << small.out;
+  EXPECT_NE(small.out.find("\"input_hierarchy\": true, \"kept\": ", trials), std::string::npos)
+      << small.out;
+  EXPECT_NE(small.out.find("\"input_hierarchy\": false, \"kept\": ", trials), std::string::npos)
       << small.out;
   const std::size_t kept = small.out.find("\"kept\": true", trials);
   ASSERT_NE(kept, std::string::npos) << small.out;

@@ -432,6 +432,59 @@ TEST(LodForBudget, ConcurrentTrialsGiveTheSequentialResult) {
   EXPECT_EQ(at.lod.mesh.F, after.lod.mesh.F);
 }
 
+// A semi-regular input's own hierarchy is one more trial: at a budget of the whole
+// input it is the input itself (no error at all), which no remeshing matches, so it is
+// kept without a remeshing; without inputHierarchy, or on an input without subdivision
+// connectivity (the torus of the tests above), or whose base is over the budget, there
+// is no such trial.
+TEST(LodForBudget, TriesTheInputsOwnHierarchy) {
+  const TriMesh input = subdivide(shapes::octahedron(), 3, Scheme::Loop);  // 512 faces
+  TempDir dir;
+  const std::string path = dir.file("loop.ply");
+  writeMesh(path, input);
+  InputOptions io;
+  io.remeshing.levels = 2;
+  io.distance.samples = 500;
+  BudgetSearchOptions search;
+  search.selection.samples = 2000;
+  search.levelsForEachBase = false;
+  AnalysisOptions a;
+  a.scheme = Scheme::Linear;
+  const BudgetLod whole = lodForBudget(path, 512, io, a, search);
+  ASSERT_EQ(whole.trials.size(), 5u);  // four base sizes, then the input's own
+  const BaseTrial& own = whole.trials.back();
+  EXPECT_TRUE(own.inputHierarchy);
+  EXPECT_EQ(own.baseFacesAsked, 0);
+  EXPECT_EQ(own.baseFaces, 8);
+  EXPECT_EQ(own.levels, 3);
+  EXPECT_EQ(own.triangles, 512);
+  EXPECT_LT(own.rmsRelative, 1e-12);  // the input itself, up to rounding
+  EXPECT_EQ(whole.chosen, 4);
+  EXPECT_FALSE(whole.surface.remeshing.has_value());
+  EXPECT_EQ(whole.surface.mesh.F.rows(), 512);
+  EXPECT_EQ(whole.lod.triangles(), 512);
+  for (std::size_t i = 0; i + 1 < whole.trials.size(); ++i) {
+    EXPECT_FALSE(whole.trials[i].inputHierarchy);
+    EXPECT_GT(whole.trials[i].rmsRelative, 0.0);
+  }
+  // At a smaller budget the closest within it is kept, whichever it is.
+  const BudgetLod part = lodForBudget(path, 100, io, a, search);
+  ASSERT_TRUE(part.trials.back().inputHierarchy);
+  EXPECT_LE(part.trials.back().triangles, 100);
+  for (const BaseTrial& t : part.trials) {
+    if (t.triangles <= 100) {
+      EXPECT_LE(part.trials[part.chosen].rmsRelative, t.rmsRelative);
+    }
+  }
+  EXPECT_EQ(part.surface.remeshing.has_value(), !part.trials[part.chosen].inputHierarchy);
+  EXPECT_FALSE(lodForBudget(path, 6, io, a, search).trials.back().inputHierarchy);  // 8 faces
+  search.inputHierarchy = false;
+  const BudgetLod without = lodForBudget(path, 512, io, a, search);
+  ASSERT_EQ(without.trials.size(), 4u);
+  for (const BaseTrial& t : without.trials) EXPECT_FALSE(t.inputHierarchy);
+  EXPECT_TRUE(without.surface.remeshing.has_value());
+}
+
 TEST(LoadSurface, MendsZeroAreaFacesBeforeRemeshing) {
   // A cube as CAD exports write it, each side fanned from a point of its first edge:
   // 12 zero-area caps, and every vertex on a sharp edge. Mended (removeZeroAreaFaces),
