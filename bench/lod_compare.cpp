@@ -270,7 +270,11 @@ void compareScan(const std::string& path, const DistanceOptions& dist) {
     const double prepare = secondsSince(t0);
     const double extract = lod.extractSeconds;
     const Approximation& x = lod.lod;
-    const Remeshing& r = lod.surface.remeshing->result;
+    // The base kept: a remeshing's, or the scan's own where it has subdivision connectivity.
+    const BaseTrial& kept = lod.trials[static_cast<std::size_t>(lod.chosen)];
+    char base[48];
+    std::snprintf(base, sizeof base, "%d%s", kept.baseFaces,
+                  kept.inputHierarchy ? " (the scan's own)" : "");
     const SurfaceDistance ours = surfaceDistance(x.mesh, scan, dist);
     double mSeconds = 0;
     const TriMesh m = meshoptSimplify(scan, b, mSeconds);
@@ -285,11 +289,11 @@ void compareScan(const std::string& path, const DistanceOptions& dist) {
     std::snprintf(ratioCgal, sizeof ratioCgal, "%.2f", ours.rmsRelative / gh.rmsRelative);
 #endif
     std::printf(
-        "| %s | %d | %lld | %d | %d: %.2e / %.2e (%.1f s, %.2f s) | %d: %.2e / %.2e (%.2f s) "
+        "| %s | %d | %lld | %s | %d: %.2e / %.2e (%.1f s, %.2f s) | %d: %.2e / %.2e (%.2f s) "
         "| %s | %.2f | %s |\n",
-        name.c_str(), faces, b, static_cast<int>(r.base.F.rows()), x.triangles(), ours.rmsRelative,
-        ours.hausdorffRelative, prepare, extract, static_cast<int>(m.F.rows()), mo.rmsRelative,
-        mo.hausdorffRelative, mSeconds, cgal, ours.rmsRelative / mo.rmsRelative, ratioCgal);
+        name.c_str(), faces, b, base, x.triangles(), ours.rmsRelative, ours.hausdorffRelative,
+        prepare, extract, static_cast<int>(m.F.rows()), mo.rmsRelative, mo.hausdorffRelative,
+        mSeconds, cgal, ours.rmsRelative / mo.rmsRelative, ratioCgal);
     std::fflush(stdout);
   }
 }
