@@ -268,8 +268,9 @@ struct BudgetSearchOptions {
   /// Where the input has subdivision connectivity, cut its own hierarchy at the budget
   /// too (no remeshing: a trial of its own, BaseTrial::inputHierarchy), so that
   /// remeshing a semi-regular input is kept only where it brings the level of detail
-  /// closer (docs/LOD.md: on the J = 5 remeshes of the comparison it did at some budgets
-  /// and not at others).
+  /// closer (docs/LOD.md's comparison on the bundled head and five J = 5 remeshes: the
+  /// remeshing closer on 32 of 36 rows, the input's own hierarchy on the head at 4,054
+  /// to 16,098 triangles and fandisk's remesh at 30,720).
   bool inputHierarchy = true;
 };
 
