@@ -246,7 +246,7 @@ void compare(const std::string& path, const std::vector<long long>& given,
 }
 
 // A scan as a user gives it to `osdmra lod SCAN --remesh --budget B`: what lod does
-// (lodForBudget: remeshed over the budget, a half, a quarter and a sixteenth of it, each
+// (lodForBudget: remeshed over the budget, twice, a half, a quarter and a sixteenth of it, each
 // analysed and cut with lod's defaults, polyhedral, rate-distortion selection, closest
 // placement: kLodDefaults in cli/common.h, the closest to the scan kept); the peers simplify the
 // scan itself; every mesh is measured against the scan. Budgets: 1%, 3% and 10% of the

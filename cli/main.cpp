@@ -55,9 +55,11 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, four times with a
-                               budget: over a base of the budget, a half, a
-                               quarter and a sixteenth of it (and the input's own
+                               --remesh as for analyze, five times with a
+                               budget: over a base of the budget (twice, the
+                               second with long thin faces where the input is
+                               flat across them), a half, a quarter and a
+                               sixteenth of it (and the input's own
                                hierarchy cut, where it has one), the level of
                                detail closest to the input kept (all reported),
                                unless --base-faces says otherwise (each

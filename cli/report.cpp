@@ -174,6 +174,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("crossing_pairs", t.crossingPairs)
                     .add("rms_relative", t.rmsRelative)
                     .add("seconds", t.seconds)
+                    .add("skinny_where_flat", t.skinnyWhereFlat)
                     .add("input_hierarchy", t.inputHierarchy)
                     .add("kept", static_cast<int>(i) == b.chosen));
   }
@@ -183,8 +184,10 @@ Json baseTrialsJson(const BudgetLod& b) {
 void printBaseTrials(const BudgetLod& b) {
   for (std::size_t i = 0; i < b.trials.size(); ++i) {
     const BaseTrial& t = b.trials[i];
-    char asked[32];
-    std::snprintf(asked, sizeof asked, "%d asked", t.baseFacesAsked);
+    char asked[48];
+    std::snprintf(asked, sizeof asked,
+                  t.skinnyWhereFlat > 0 ? "%d asked, skinny where flat" : "%d asked",
+                  t.baseFacesAsked);
     std::printf(
         "base of %d faces (%s), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",

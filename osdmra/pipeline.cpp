@@ -366,15 +366,23 @@ void cutAndMeasure(const TriMesh& input, long long budget, const AnalysisOptions
   t.row.rmsRelative = surfaceDistance(t.lod.lod.mesh, input, search.selection).rmsRelative;
 }
 
-// The trial of `input` remeshed over `baseFaces`.
+// One remeshing lodForBudget tries: over `baseFaces`, with skinny faces where flat
+// (RemeshOptions::skinnyWhereFlat) or not.
+struct Ask {
+  int baseFaces = 0;
+  double skinnyWhereFlat = 0;
+};
+
+// The trial of `input` remeshed as `ask` says.
 Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::string& path,
-              long long budget, int baseFaces, InputOptions options,
-              const AnalysisOptions& analysis, const BudgetSearchOptions& search,
-              const Progress& progress) {
+              long long budget, Ask ask, InputOptions options, const AnalysisOptions& analysis,
+              const BudgetSearchOptions& search, const Progress& progress) {
   const auto t0 = Clock::now();
+  const int baseFaces = ask.baseFaces;
   options.remeshing.baseFaces = baseFaces;
   if (search.stagesPerVertex) options.remeshing.stages = StageRelaxation::perVertex;
   if (search.retriangulateByError) options.remeshing.retriangulateByError = true;
+  options.remeshing.skinnyWhereFlat = ask.skinnyWhereFlat;
   if (search.levelsForEachBase && options.remeshing.maxFaces == 0)
     options.remeshing.maxFaces = kLodRemeshingFaces;
   Trial t;
@@ -385,6 +393,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   s.mesh = s.remeshing->result.mesh;
   s.seconds = secondsSince(t0);
   t.row.baseFacesAsked = baseFaces;
+  t.row.skinnyWhereFlat = ask.skinnyWhereFlat;
   t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
   t.row.levels = s.remeshing->result.levels;
   cutAndMeasure(input, budget, analysis, search, progress, t);
@@ -413,23 +422,27 @@ std::optional<Trial> tryInputHierarchy(const TriMesh& input, const std::string& 
   return t;
 }
 
-// The base sizes of search.divisors for `budget`, each smaller than the one before
-// (tiny budgets give the same size for several).
-std::vector<int> baseSizesToTry(long long budget, const std::vector<int>& divisors) {
-  std::vector<int> asks;
-  for (int divisor : divisors) {
+// The remeshings of search.divisors for `budget`, each base smaller than the one before
+// (tiny budgets give the same size for several), and the whole budget's again with
+// skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat).
+std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& search) {
+  std::vector<Ask> asks;
+  for (int divisor : search.divisors) {
     const int ask = baseFacesForBudget(budget, divisor);
-    if (asks.empty() || ask < asks.back()) asks.push_back(ask);
+    if (asks.empty() || ask < asks.back().baseFaces) asks.push_back({ask, 0});
   }
   if (asks.empty()) throw Error("lodForBudget: no base size to try");
+  const int whole = baseFacesForBudget(budget, 1);
+  if (search.skinnyWhereFlat > 0 && asks.front().baseFaces == whole)
+    asks.insert(asks.begin() + 1, Ask{whole, search.skinnyWhereFlat});
   return asks;
 }
 
-// The base sizes lodForBudget tries for `budget`; throws Error for a budget under 1.
-std::vector<int> checkBudget(const std::string& source, long long budget,
+// The remeshings lodForBudget tries for `budget`; throws Error for a budget under 1.
+std::vector<Ask> checkBudget(const std::string& source, long long budget,
                              const BudgetSearchOptions& search) {
   if (budget < 1) throw Error(source + ": a level of detail needs a budget of 1 triangle or more");
-  return baseSizesToTry(budget, search.divisors);
+  return remeshingsToTry(budget, search);
 }
 
 // Whether trial a's level of detail is to be kept over b's: within the budget first,
@@ -464,9 +477,9 @@ BudgetLod lodForBudget(const std::string& path, long long budget, InputOptions i
 BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const std::string& path,
                        long long budget, const InputOptions& input, const AnalysisOptions& analysis,
                        const BudgetSearchOptions& search, const Progress& progress) {
-  const std::vector<int> asks = checkBudget(path, budget, search);
+  const std::vector<Ask> asks = checkBudget(path, budget, search);
   const auto t0 = Clock::now();
-  const auto run = [&](int ask, const Progress& p) {
+  const auto run = [&](Ask ask, const Progress& p) {
     return tryBase(mesh, repairs, path, budget, ask, input, analysis, search, p);
   };
   // The first trial in this thread, reporting progress; the others beside it.

@@ -272,6 +272,17 @@ struct BudgetSearchOptions {
   /// remeshing closer on 32 of 36 rows, the input's own hierarchy on the head at 4,054
   /// to 16,098 triangles and fandisk's remesh at 30,720).
   bool inputHierarchy = true;
+  /// Where over 0, the whole budget is tried twice, the second time with
+  /// RemeshOptions::skinnyWhereFlat at this fraction: its level of detail is its base,
+  /// which then keeps a CAD model's flat sides and cylinders in long thin faces, as a
+  /// quadric simplifier does (on the 48 rows of docs/LOD.md: fandisk at 129, 388 and
+  /// 1,295 triangles 0.63-0.74x RMS). Not instead of the first: skinny faces change the
+  /// simplification's path, which can leave a base farther or over the budget (the
+  /// alligator at 60 triangles 1.24x farther, the half tunnel at 16 over it), and not
+  /// in the other trials, whose bases are domains the wavelets refine, where a skinny
+  /// face samples the surface worse (with it on every trial the lion at 500 came 1.13x
+  /// farther and crossing itself).
+  double skinnyWhereFlat = 0.1;
 };
 
 /// One base size lodForBudget tried.
@@ -280,6 +291,8 @@ struct BaseTrial {
   /// inputHierarchy); baseFacesAsked is then 0.
   bool inputHierarchy = false;
   int baseFacesAsked = 0, baseFaces = 0, levels = 0;
+  /// RemeshOptions::skinnyWhereFlat of its remeshing (BudgetSearchOptions::skinnyWhereFlat).
+  double skinnyWhereFlat = 0;
   int triangles = 0;  ///< of its level of detail at the budget
   /// Pairs of its level of detail's triangles that cross without being neighbours
   /// (findSelfIntersections).

@@ -182,6 +182,7 @@ Remeshing remeshedOver(const TriMesh& input, const FeatureChoice& choice,
   how.noNewCrossings = options.baseWithoutNewCrossings;
   how.stagesPerVertex = stagesPerVertex;
   how.retriangulateByError = options.retriangulateByError;
+  how.skinnyWhereFlat = options.skinnyWhereFlat;
   const Features* chosen = nullptr;
   Simplification s = simplifiedWithin(input, choice, options, how, progress, chosen);
   const Features& features = *chosen;

@@ -113,6 +113,11 @@ struct RemeshOptions {
   /// and 4 runs at J = 5 over 0.5% of the diagonal instead of none. lodForBudget uses it
   /// (BudgetSearchOptions::retriangulateByError).
   bool retriangulateByError = false;
+  /// Let new base faces go skinnier than the simplification's stages allow where the
+  /// input they hold is flat across them (simplify.h's SimplifyOptions::skinnyWhereFlat:
+  /// the fraction of a face's width its points may stray from its plane; 0, the
+  /// default, never). lodForBudget uses it (BudgetSearchOptions::skinnyWhereFlat).
+  double skinnyWhereFlat = 0;
 };
 
 struct Remeshing {

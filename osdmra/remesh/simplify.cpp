@@ -52,7 +52,8 @@ class Simplifier {
         corner_(features.corner),
         fold_(features.fold),
         stages_(stages),
-        stagesPerVertex_(options.stagesPerVertex) {
+        stagesPerVertex_(options.stagesPerVertex),
+        skinnyWhereFlat_(options.skinnyWhereFlat) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m);
     faces_.reserve(2 * m.F.rows());
@@ -120,6 +121,7 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool retriangulate(int v, Plan& p);
   double triangulationError(int v, const Plan& p) const;
+  bool skinnyFacesAreFlat(const Plan& p, const std::vector<char>& skinny) const;
   void passOnQuadric(int v, const Ring& ring);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
@@ -163,6 +165,7 @@ class Simplifier {
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
   bool stagesPerVertex_ = false;
+  double skinnyWhereFlat_ = 0;
   std::vector<unsigned char> ownStage_;  // per vertex, under stagesPerVertex_
   std::size_t stageUsed_ = 0;            // the last stage a removal was made under
   int aliveFaces_ = 0, plans_ = 0;
@@ -172,6 +175,10 @@ class Simplifier {
   // otherwise).
   std::vector<Quadric> quadric_;
   std::vector<double> smallestAngle_;  // per input face, degrees
+  // tryTriangulation's and skinnyFacesAreFlat's scratch, kept between plans.
+  std::vector<char> skinny_;
+  mutable std::vector<double> skinnyBound_;
+  mutable std::vector<Vec3> skinnyNormal_;
   // Per input face, laid flat once: distortion() measures each against its chart image
   // in many plans, and the input never moves.
   std::vector<std::array<Vec2, 3>> inputFlat_;
@@ -381,6 +388,36 @@ double Simplifier::triangulationError(int v, const Plan& p) const {
   return quadric_[v](q);
 }
 
+// Whether every input point that a skinny new face of the plan holds lies within
+// skinnyWhereFlat_ of its width from its plane (SimplifyOptions::skinnyWhereFlat). The
+// face is the ring's corners in space, not the flattening, since the level of detail is
+// that triangle.
+bool Simplifier::skinnyFacesAreFlat(const Plan& p, const std::vector<char>& skinny) const {
+  std::vector<double>& bound = skinnyBound_;
+  std::vector<Vec3>& normal = skinnyNormal_;
+  bound.assign(p.triangles.size(), 0);
+  normal.assign(p.triangles.size(), Vec3::Zero());
+  for (std::size_t q = 0; q < p.triangles.size(); ++q) {
+    if (!skinny[q]) continue;
+    const auto& t = p.triangles[q];
+    const Vec3 a = V_.row(p.vertex(t[0])).transpose(), b = V_.row(p.vertex(t[1])).transpose(),
+               c = V_.row(p.vertex(t[2])).transpose();
+    const Vec3 n = (b - a).cross(c - a);
+    const double twiceArea = n.norm();
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    if (!(twiceArea > 0) || !(longest > 0)) return false;
+    normal[q] = n / twiceArea;
+    bound[q] = skinnyWhereFlat_ * twiceArea / longest;  // a fraction of the width
+  }
+  for (const Plan::Moved& mv : p.moved) {
+    if (!skinny[mv.triangle]) continue;
+    const int corner = p.vertex(p.triangles[mv.triangle][0]);
+    const double off = normal[mv.triangle].dot((V_.row(mv.point) - V_.row(corner)).transpose());
+    if (std::abs(off) > bound[mv.triangle]) return false;
+  }
+  return true;
+}
+
 // A removed vertex's planes go to its ring, shared out evenly, so that the quadrics'
 // sum stays the input's and later removals there answer for what this one smoothed.
 void Simplifier::passOnQuadric(int v, const Ring& ring) {
@@ -398,9 +435,20 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
     for (int k = 0; k < p.ring.numFaces(); ++k)
       minAngle =
           std::min(minAngle, smallestAngle(Vec2::Zero(), p.flat.points[k], p.flat.points[k + 1]));
-  for (const auto& t : p.triangles)
-    if (smallestAngle(p.flat.points[t[0]], p.flat.points[t[1]], p.flat.points[t[2]]) < minAngle)
-      return false;
+  // Faces under minAngle but over kSkinnyFloor wait for the flatness test
+  // (SimplifyOptions::skinnyWhereFlat), which needs the points placed.
+  std::vector<char>& skinny = skinny_;
+  skinny.assign(p.triangles.size(), 0);
+  bool anySkinny = false;
+  for (std::size_t q = 0; q < p.triangles.size(); ++q) {
+    const auto& t = p.triangles[q];
+    const double angle =
+        smallestAngle(p.flat.points[t[0]], p.flat.points[t[1]], p.flat.points[t[2]]);
+    if (angle >= minAngle) continue;
+    if (!(skinnyWhereFlat_ > 0) || angle < kSkinnyFloor * kPi / 180) return false;
+    skinny[q] = 1;
+    anySkinny = true;
+  }
   // No new edge may exist already (that would pinch the surface: a changed topology).
   const int m = p.ring.numFaces();
   const int closing = p.ring.boundary ? -1 : m;
@@ -418,6 +466,7 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
     }
   refusal_ = std::max(refusal_, static_cast<int>(kDistortion));
   if (!placePoints(v, p)) return false;
+  if (anySkinny && !skinnyFacesAreFlat(p, skinny)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
   if (worst > p.limits->anisotropy) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kTip));

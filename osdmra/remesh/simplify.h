@@ -118,7 +118,18 @@ struct SimplifyOptions {
   /// otherwise the ear clipping first, then the fans from the corners of lowest valence
   /// (RemeshOptions::retriangulateByError).
   bool retriangulateByError = false;
+  /// Where over 0, a new face may have a smallest angle under its stage's flatAngle, down
+  /// to kSkinnyFloor degrees, if every input point it holds lies within this fraction of
+  /// its width (its shortest altitude) of its plane: a sliver along a direction in which
+  /// the surface does not bend (a CAD model's flat sides and the axes of its cylinders)
+  /// stays as close to the input as a fat face does, while one across a bend does not
+  /// (RemeshOptions::skinnyWhereFlat).
+  double skinnyWhereFlat = 0;
 };
+
+/// The smallest angle, in degrees, of a new face that SimplifyOptions::skinnyWhereFlat
+/// lets through.
+constexpr double kSkinnyFloor = 1;
 
 /// Simplifies a valid mesh to at most `targetFaces` faces, or as far as the stages
 /// allow.

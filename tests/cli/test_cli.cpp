@@ -424,6 +424,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 100,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 50,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
+  // The whole budget again, with skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat).
+  EXPECT_NE(small.out.find("\"skinny_where_flat\": 0.1,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"crossing_pairs\": 0, \"rms_relative\": ", trials), std::string::npos)
       << small.out;
   // The torus has subdivision connectivity (3 levels over 48 faces): its own hierarchy is
