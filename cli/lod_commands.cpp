@@ -118,6 +118,7 @@ int cmdLod(const Argv& argv) {
     search.levelsForEachBase = !args.has("levels");
     search.stagesPerVertex = input.remeshing.stages == StageRelaxation::perVertex;
     search.retriangulateByError = input.remeshing.retriangulateByError;
+    if (args.has("skinny-where-flat")) search.skinnyWhereFlat = input.remeshing.skinnyWhereFlat;
     searched = lodForBudget(in, budget, input, options, search, opt.progress);
     if (searched->surface.remeshing) printRemeshWarnings(in, *searched->surface.remeshing);
     x = std::move(searched->lod);

@@ -72,6 +72,7 @@ commands:
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
                  [--stages auto|vertex|mesh] [--retriangulation shape|error]
+                 [--skinny-where-flat F]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -98,7 +99,12 @@ commands:
                                --retriangulation error fills each removed
                                vertex's ring by the error made, as a quadric
                                simplifier would (default shape: by the faces'
-                               shape first);
+                               shape first); --skinny-where-flat F lets base
+                               faces go under the stages' angle bounds, down to
+                               1 degree, where the input points each holds lie
+                               within F of its width from its plane (default 0:
+                               never; lod --remesh --budget tries the whole
+                               budget a second time with F = 0.1, none if 0);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

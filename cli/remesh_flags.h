@@ -1,5 +1,6 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
-// --max-faces, --smoothing-sweeps, --stages, --retriangulation) and those of the
+// --max-faces, --smoothing-sweeps, --stages, --retriangulation, --skinny-where-flat)
+// and those of the
 // distance it reports (--samples, --seed), read the same way by the tool and the
 // viewer.
 #pragma once
@@ -18,7 +19,7 @@ namespace osdmra::cli {
 // all of them.
 inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
   own.insert({"base-faces", "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps",
-              "stages", "retriangulation"});
+              "stages", "retriangulation", "skinny-where-flat"});
   return own;
 }
 
@@ -54,6 +55,9 @@ inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false
       static_cast<int>(args.integer("smoothing-sweeps", o.smoothingSweeps, 0, 1000));
   o.stages = stageRelaxation(args, levelsOfDetail ? "vertex" : "auto");
   o.retriangulateByError = retriangulateByError(args, levelsOfDetail ? "error" : "shape");
+  // 0 (none) for every command: lod's budget search reads it for its second trial over
+  // the whole budget instead, where it defaults to BudgetSearchOptions' fraction.
+  o.skinnyWhereFlat = args.real("skinny-where-flat", 0.0, 0.0, 1.0);
   return o;
 }
 

@@ -442,6 +442,19 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_EQ(small.out.find("\"kept\": true", kept + 1), std::string::npos) << small.out;
   EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 200);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
+  // --skinny-where-flat 0: no second trial over the whole budget; a fraction outside
+  // [0, 1] is refused, naming the option.
+  const Result fat = run("lod " + path("t3.obj") +
+                         " --remesh --levels 2 --budget 200 --samples 2000 --skinny-where-flat 0 "
+                         "--json -o " +
+                         path("l.obj"));
+  ASSERT_EQ(fat.status, 0) << fat.err;
+  EXPECT_NE(fat.out.find("\"base_trials\": [{\"base_faces_asked\": 200,"), std::string::npos);
+  EXPECT_EQ(fat.out.find("\"skinny_where_flat\": 0.1"), std::string::npos) << fat.out;
+  const Result badFraction =
+      run("remesh " + path("t3.obj") + " --skinny-where-flat 2 -o " + path("r.obj"));
+  EXPECT_NE(badFraction.status, 0);
+  EXPECT_NE(badFraction.err.find("skinny-where-flat"), std::string::npos) << badFraction.err;
   // Without --levels too, each base gets as many levels as keep its remeshing within
   // --max-faces (2^19 by default, the remesher's 5 levels over 300 faces; 5 over 50),
   // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 44
