@@ -121,7 +121,7 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool retriangulate(int v, Plan& p);
   double triangulationError(int v, const Plan& p) const;
-  bool skinnyFacesAreFlat(const Plan& p, const std::vector<char>& skinny) const;
+  bool skinnyFacesAreFlat(const Plan& p);
   void passOnQuadric(int v, const Ring& ring);
   bool placePoints(int v, Plan& p);
   double distortion(const Plan& p);
@@ -175,10 +175,11 @@ class Simplifier {
   // otherwise).
   std::vector<Quadric> quadric_;
   std::vector<double> smallestAngle_;  // per input face, degrees
-  // tryTriangulation's and skinnyFacesAreFlat's scratch, kept between plans.
+  // tryTriangulation's and skinnyFacesAreFlat's scratch, kept between plans: per new
+  // face, whether it is under its stage's angle, and its unit normal and bound.
   std::vector<char> skinny_;
-  mutable std::vector<double> skinnyBound_;
-  mutable std::vector<Vec3> skinnyNormal_;
+  std::vector<double> skinnyBound_;
+  std::vector<Vec3> skinnyNormal_;
   // Per input face, laid flat once: distortion() measures each against its chart image
   // in many plans, and the input never moves.
   std::vector<std::array<Vec2, 3>> inputFlat_;
@@ -388,15 +389,16 @@ double Simplifier::triangulationError(int v, const Plan& p) const {
   return quadric_[v](q);
 }
 
-// Whether every input point that a skinny new face of the plan holds lies within
+// Whether every input point that a skinny new face of the plan (skinny_) holds lies within
 // skinnyWhereFlat_ of its width from its plane (SimplifyOptions::skinnyWhereFlat). The
 // face is the ring's corners in space, not the flattening, since the level of detail is
 // that triangle.
-bool Simplifier::skinnyFacesAreFlat(const Plan& p, const std::vector<char>& skinny) const {
+bool Simplifier::skinnyFacesAreFlat(const Plan& p) {
+  const std::vector<char>& skinny = skinny_;
   std::vector<double>& bound = skinnyBound_;
   std::vector<Vec3>& normal = skinnyNormal_;
-  bound.assign(p.triangles.size(), 0);
-  normal.assign(p.triangles.size(), Vec3::Zero());
+  bound.resize(p.triangles.size());
+  normal.resize(p.triangles.size());
   for (std::size_t q = 0; q < p.triangles.size(); ++q) {
     if (!skinny[q]) continue;
     const auto& t = p.triangles[q];
@@ -436,9 +438,8 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
       minAngle =
           std::min(minAngle, smallestAngle(Vec2::Zero(), p.flat.points[k], p.flat.points[k + 1]));
   // Faces under minAngle but over kSkinnyFloor wait for the flatness test
-  // (SimplifyOptions::skinnyWhereFlat), which needs the points placed.
-  std::vector<char>& skinny = skinny_;
-  skinny.assign(p.triangles.size(), 0);
+  // (SimplifyOptions::skinnyWhereFlat), which needs the points placed; skinny_ is
+  // cleared only once one is found, off the common path.
   bool anySkinny = false;
   for (std::size_t q = 0; q < p.triangles.size(); ++q) {
     const auto& t = p.triangles[q];
@@ -446,7 +447,8 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
         smallestAngle(p.flat.points[t[0]], p.flat.points[t[1]], p.flat.points[t[2]]);
     if (angle >= minAngle) continue;
     if (!(skinnyWhereFlat_ > 0) || angle < kSkinnyFloor * kPi / 180) return false;
-    skinny[q] = 1;
+    if (!anySkinny) skinny_.assign(p.triangles.size(), 0);
+    skinny_[q] = 1;
     anySkinny = true;
   }
   // No new edge may exist already (that would pinch the surface: a changed topology).
@@ -466,7 +468,7 @@ bool Simplifier::tryTriangulation(int v, Plan& p, double& worst) {
     }
   refusal_ = std::max(refusal_, static_cast<int>(kDistortion));
   if (!placePoints(v, p)) return false;
-  if (anySkinny && !skinnyFacesAreFlat(p, skinny)) return false;
+  if (anySkinny && !skinnyFacesAreFlat(p)) return false;
   worst = fold_[v] ? 1.0 : distortion(p);
   if (worst > p.limits->anisotropy) return false;
   refusal_ = std::max(refusal_, static_cast<int>(kTip));
