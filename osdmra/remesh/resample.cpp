@@ -10,6 +10,7 @@
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/remesh/charts.h"
+#include "osdmra/remesh/fan_chart.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
@@ -97,6 +98,8 @@ class Resampler {
     return s_.featureEdges.count(edgeKey(inputOf_[p], inputOf_[q])) != 0;
   }
   bool imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const;
+  bool spansFaces(int t) const;
+  bool imageAboutCorner(int f, int t, std::array<Vec2, 3>& image) const;
   bool walkTo(const BaseCharts& charts, int f, const std::array<double, 3>& bary, int start,
               SurfacePoint& found) const;
   SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
@@ -140,8 +143,54 @@ class Resampler {
   Resampled out_;
 };
 
-// Input triangle t's corners, at their places on the base, in base face f's chart.
+// Whether input triangle t's corners lie in base faces other than one face or two that
+// share an edge: its image then depends on how the faces between them are laid.
+bool Resampler::spansFaces(int t) const {
+  std::array<int, 3> faces{}, vertices{};
+  int nf = 0, nv = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int x = input_.F(t, k);
+    if (s_.baseOf[x] >= 0) {
+      vertices[nv++] = s_.baseOf[x];
+    } else if (std::find(faces.begin(), faces.begin() + nf, s_.params[x].face) ==
+               faces.begin() + nf) {
+      faces[nf++] = s_.params[x].face;
+    }
+  }
+  const auto holds = [&](int g, int w) {
+    return base_.F(g, 0) == w || base_.F(g, 1) == w || base_.F(g, 2) == w;
+  };
+  if (nf == 3) return true;
+  if (nf == 2 && holds(faces[1], base_.F(faces[0], 0)) + holds(faces[1], base_.F(faces[0], 1)) +
+                         holds(faces[1], base_.F(faces[0], 2)) <
+                     2)
+    return true;
+  for (int i = 0; i < nv; ++i)
+    if (nf > 0 && std::none_of(faces.begin(), faces.begin() + nf,
+                               [&](int g) { return holds(g, vertices[i]); }))
+      return true;
+  return false;
+}
+
+// Input triangle t laid about the first corner of base face f whose faces hold all its
+// corners (fan_chart.h), where there is one: the same image from every face around that
+// corner, where the breadth-first charts give one per chart.
+bool Resampler::imageAboutCorner(int f, int t, std::array<Vec2, 3>& image) const {
+  std::array<BasePoint, 3> corners;
+  for (int k = 0; k < 3; ++k) {
+    const int x = input_.F(t, k);
+    corners[k] = s_.baseOf[x] >= 0 ? BasePoint{s_.baseOf[x], {}} : BasePoint{-1, s_.params[x]};
+  }
+  for (int iv = 0; iv < 3; ++iv)
+    if (layAboutCorner(base_, baseConn_, f, iv, charts_.own(f), corners, image)) return true;
+  return false;
+}
+
+// Input triangle t's corners, at their places on the base, in base face f's chart; a
+// triangle whose corners lie in faces apart, laid about a corner of f that they
+// surround where they do (imageAboutCorner).
 bool Resampler::imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const {
+  if (spansFaces(t) && imageAboutCorner(f, t, image)) return true;
   for (int k = 0; k < 3; ++k)
     if (!placeInputVertex(charts, s_, f, input_.F(t, k), image[k])) return false;
   return true;

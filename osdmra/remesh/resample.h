@@ -7,7 +7,10 @@
 // input triangle with the distortion the simplification bounded, so a grid triangle
 // inside one input triangle keeps its orientation. The search starts where the exact
 // inverse of the removals puts the point (simplify.h's traceToInput, a bijection), and
-// keeps that place where the charts cannot hold the triangles around. Grid
+// keeps that place where the charts cannot hold the triangles around. An input
+// triangle whose corners lie in base faces apart (not one face, nor two sharing an edge)
+// is laid about the corner of the face its corners surround (fan_chart.h), so that it
+// has one image from every face around that corner, not one per chart. Grid
 // points on feature and boundary base edges are sampled along the input's line itself
 // (the chain of input feature or boundary edges the base edge stands for), at their
 // parameter along it. The grid is laid out first; its points, independent of each
