@@ -78,7 +78,12 @@ bool polarAbout(const TriMesh& base, const Fan& fan, int v, const BasePoint& p, 
 void ontoArc(const Fan& fan, const std::array<char, 3>& atVertex, std::array<double, 3>& angle) {
   if (!fan.closed) return;  // an open fan has no way round: its angles are unique
   const double total = fan.total;
-  auto ahead = [&](double from, double to) { return std::fmod(to - from + 2 * total, total); };
+  // Into [0, total) first: a corner on the last face's far edge is on f's first edge.
+  auto wrap = [&](double a) {
+    a = std::fmod(a, total);
+    return a < 0 ? a + total : a >= total ? a - total : a;
+  };
+  for (double& a : angle) a = wrap(a);
   int first = -1;
   const int kv =
       static_cast<int>(std::find(atVertex.begin(), atVertex.end(), 1) - atVertex.begin());
@@ -91,8 +96,10 @@ void ontoArc(const Fan& fan, const std::array<char, 3>& atVertex, std::array<dou
     double widest = -1;
     for (int k = 0; k < 3; ++k) {
       double gap = total;
-      for (int j = 0; j < 3; ++j)
-        if (j != k && ahead(angle[j], angle[k]) > 0) gap = std::min(gap, ahead(angle[j], angle[k]));
+      for (int j = 0; j < 3; ++j) {
+        const double ahead = wrap(angle[k] - angle[j]);
+        if (j != k && ahead > 0) gap = std::min(gap, ahead);
+      }
       if (gap > widest) widest = gap, first = k;
     }
   }
@@ -100,20 +107,15 @@ void ontoArc(const Fan& fan, const std::array<char, 3>& atVertex, std::array<dou
   double hi = lo;
   for (int k = 0; k < 3; ++k) {
     if (atVertex[k]) continue;
-    angle[k] = lo + ahead(lo, angle[k]);
+    angle[k] = lo + wrap(angle[k] - lo);
     hi = std::max(hi, angle[k]);
   }
   // A whole turn back or not, whichever leaves the arc nearer f's sector.
   auto distance = [&](double shift) {
     return std::max({0.0, lo + shift - fan.own, -(hi + shift)});
   };
-  const double shift = lo >= total ? -total : 0;
-  const double other = shift - total;
-  if (distance(other) < distance(shift)) {
-    for (double& a : angle) a += other;
-  } else {
-    for (double& a : angle) a += shift;
-  }
+  if (distance(-total) < distance(0))
+    for (double& a : angle) a -= total;
 }
 
 }  // namespace

@@ -105,6 +105,21 @@ TEST(FanChart, OneShapeAroundASaddleWithTheVertexACorner) {
   EXPECT_NEAR((images[4][1] - images[4][0]).norm(), (p1 - m.V.row(0).transpose()).norm(), 1e-12);
 }
 
+TEST(FanChart, APointOnTheLastFacesFarEdgeIsOnTheFirstFacesNearOne) {
+  // Two corners on edge (0, 1), one given in the first face (0, 1, 2), the other in the
+  // fifth (0, 5, 1): counting counter-clockwise from the first face's first edge, one
+  // is at no turn and the other a whole turn on, yet both lie on that edge.
+  const TriMesh m = fanOfFive(1.0, 0.0);
+  const std::array<BasePoint, 3> corners = {at(1, 0.4, 0.3, 0.3), at(0, 0.375, 0.625, 0.0),
+                                            at(4, 0.25, 0.0, 0.75)};
+  const auto images = fromEveryFace(m, corners);
+  for (const auto& image : images) expectSameShape(images[0], image);
+  // From the first face, whose chart has both on its own edge: where that edge has them.
+  const Laid first = laidFlat(m, 0);
+  EXPECT_NEAR((images[0][1] - (0.375 * first.pos[0] + 0.625 * first.pos[1])).norm(), 0, 1e-12);
+  EXPECT_NEAR((images[0][2] - (0.25 * first.pos[0] + 0.75 * first.pos[1])).norm(), 0, 1e-12);
+}
+
 TEST(FanChart, NeighboursLieOnTheirEdgesAndPointsOffTheFanAreRefused) {
   const TriMesh m = fanOfFive(0.5, 0.0);
   const Connectivity conn(m.F, static_cast<int>(m.V.rows()));
