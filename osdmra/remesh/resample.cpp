@@ -160,11 +160,11 @@ bool Resampler::spansFaces(int t) const {
   const auto holds = [&](int g, int w) {
     return base_.F(g, 0) == w || base_.F(g, 1) == w || base_.F(g, 2) == w;
   };
-  if (nf == 3) return true;
-  if (nf == 2 && holds(faces[1], base_.F(faces[0], 0)) + holds(faces[1], base_.F(faces[0], 1)) +
-                         holds(faces[1], base_.F(faces[0], 2)) <
-                     2)
-    return true;
+  const auto sharedCorners = [&](int g, int h) {
+    return holds(h, base_.F(g, 0)) + holds(h, base_.F(g, 1)) + holds(h, base_.F(g, 2));
+  };
+  if (nf == 3 || (nf == 2 && sharedCorners(faces[0], faces[1]) < 2)) return true;
+  // A corner at a base vertex that none of the other corners' faces has.
   for (int i = 0; i < nv; ++i)
     if (nf > 0 && std::none_of(faces.begin(), faces.begin() + nf,
                                [&](int g) { return holds(g, vertices[i]); }))
