@@ -99,7 +99,7 @@ class Resampler {
   }
   bool imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const;
   bool spansFaces(int t) const;
-  bool imageAboutCorner(int f, int t, std::array<Vec2, 3>& image) const;
+  bool imageAboutCorner(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const;
   bool walkTo(const BaseCharts& charts, int f, const std::array<double, 3>& bary, int start,
               SurfacePoint& found) const;
   SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
@@ -175,14 +175,15 @@ bool Resampler::spansFaces(int t) const {
 // Input triangle t laid about the first corner of base face f whose faces hold all its
 // corners (fan_chart.h), where there is one: the same image from every face around that
 // corner, where the breadth-first charts give one per chart.
-bool Resampler::imageAboutCorner(int f, int t, std::array<Vec2, 3>& image) const {
+bool Resampler::imageAboutCorner(const BaseCharts& charts, int f, int t,
+                                 std::array<Vec2, 3>& image) const {
   std::array<BasePoint, 3> corners;
   for (int k = 0; k < 3; ++k) {
     const int x = input_.F(t, k);
     corners[k] = s_.baseOf[x] >= 0 ? BasePoint{s_.baseOf[x], {}} : BasePoint{-1, s_.params[x]};
   }
   for (int iv = 0; iv < 3; ++iv)
-    if (layAboutCorner(base_, baseConn_, f, iv, charts_.own(f), corners, image)) return true;
+    if (layAboutCorner(base_, baseConn_, f, iv, charts.own(f), corners, image)) return true;
   return false;
 }
 
@@ -190,7 +191,7 @@ bool Resampler::imageAboutCorner(int f, int t, std::array<Vec2, 3>& image) const
 // triangle whose corners lie in faces apart, laid about a corner of f that they
 // surround where they do (imageAboutCorner).
 bool Resampler::imageIn(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const {
-  if (spansFaces(t) && imageAboutCorner(f, t, image)) return true;
+  if (spansFaces(t) && imageAboutCorner(charts, f, t, image)) return true;
   for (int k = 0; k < 3; ++k)
     if (!placeInputVertex(charts, s_, f, input_.F(t, k), image[k])) return false;
   return true;
