@@ -1,6 +1,7 @@
 #include "osdmra/geometry/normals.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 namespace osdmra {
 
@@ -8,6 +9,13 @@ Eigen::Vector3d faceNormal(const TriMesh& mesh, Eigen::Index f) {
   const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
                         c = mesh.V.row(mesh.F(f, 2));
   return (b - a).cross(c - a);
+}
+
+double faceAngle(const TriMesh& mesh, Eigen::Index f, int i) {
+  const Eigen::Vector3d o = mesh.V.row(mesh.F(f, i)).transpose();
+  const Eigen::Vector3d u = mesh.V.row(mesh.F(f, (i + 1) % 3)).transpose() - o;
+  const Eigen::Vector3d w = mesh.V.row(mesh.F(f, (i + 2) % 3)).transpose() - o;
+  return std::atan2(u.cross(w).norm(), u.dot(w));
 }
 
 Points vertexNormalSums(const TriMesh& mesh) {

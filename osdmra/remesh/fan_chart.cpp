@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "osdmra/geometry/normals.h"
+
 namespace osdmra::remeshing {
 
 namespace {
@@ -27,15 +29,13 @@ bool fanFrom(const TriMesh& base, const Connectivity& conn, int v, int f, Fan& f
   if (first == m) return false;
   fan.closed = !conn.isBoundaryVertex(v);
   const int origin = fan.closed ? first : 0;
-  const Vec3 pv = base.V.row(v).transpose();
   fan.halfedges.clear();
   fan.start.clear();
   double angle = 0, startOfF = 0;
   for (int n = 0; n < m; ++n) {
     const int h = around[(origin + n) % m];
     const int g = h / 3, i = h % 3;
-    const double a = angleBetween(base.V.row(base.F(g, (i + 1) % 3)).transpose() - pv,
-                                  base.V.row(base.F(g, (i + 2) % 3)).transpose() - pv);
+    const double a = faceAngle(base, g, i);
     if (g == f) startOfF = angle, fan.own = a;
     fan.halfedges.push_back(h);
     fan.start.push_back(angle);

@@ -181,9 +181,7 @@ std::vector<char> findTips(const TriMesh& m, const Connectivity& c) {
     const int v = c.from(h);
     used[v] = 1;
     if (c.twin(h) < 0) rim[v] = rim[c.to(h)] = 1;
-    const Vec3 a = (m.V.row(c.to(h)) - m.V.row(v)).transpose();
-    const Vec3 b = (m.V.row(c.from(Connectivity::prev(h))) - m.V.row(v)).transpose();
-    angle[v] += angleBetween(a, b);
+    angle[v] += faceAngle(m, h / 3, h % 3);
   }
   std::vector<char> tip(n, 0);
   for (int v = 0; v < n; ++v) tip[v] = used[v] && !rim[v] && angle[v] < kMaxTipAngle * kPi / 180.0;

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "osdmra/base/detail/parallel.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/fan_chart.h"
 #include "osdmra/remesh/planar.h"
@@ -373,14 +374,10 @@ struct Cone {
 };
 
 Cone Resampler::coneOf(int x) const {
-  const IndexSpan fan = inputConn_.fan(x);
-  const Vec3 c = input_.V.row(x).transpose();
   Cone cone;
   cone.start.assign(1, 0.0);
-  for (int h : fan) {
-    cone.sector.push_back(
-        angleBetween(input_.V.row(inputConn_.to(h)).transpose() - c,
-                     input_.V.row(inputConn_.from(Connectivity::prev(h))).transpose() - c));
+  for (int h : inputConn_.fan(x)) {
+    cone.sector.push_back(faceAngle(input_, h / 3, h % 3));
     cone.start.push_back(cone.start.back() + cone.sector.back());
   }
   return cone;

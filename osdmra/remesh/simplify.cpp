@@ -9,6 +9,7 @@
 #include <string>
 
 #include "osdmra/geometry/face_grid.h"
+#include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/quadric.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/remesh/distortion.h"
@@ -486,9 +487,7 @@ void Simplifier::markTips(const TriMesh& m, const std::vector<char>& tip) {
     std::vector<Sector> cone;
     for (int f : inputFaces_[v]) {
       const int i = m.F(f, 0) == v ? 0 : m.F(f, 1) == v ? 1 : 2;
-      const int a = m.F(f, (i + 1) % 3), b = m.F(f, (i + 2) % 3);
-      const Vec3 ea = (V_.row(a) - V_.row(v)).transpose(), eb = (V_.row(b) - V_.row(v)).transpose();
-      cone.push_back({a, b, angleBetween(ea, eb)});
+      cone.push_back({m.F(f, (i + 1) % 3), m.F(f, (i + 2) % 3), faceAngle(m, f, i)});
     }
     Ring r;
     if (ring(v, r)) tipCone_[v] = std::move(cone);

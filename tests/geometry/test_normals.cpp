@@ -143,3 +143,41 @@ TEST(Normals, UnitOrZeroAndScaleFree) {
   for (Eigen::Index v = 0; v < n; ++v)
     EXPECT_LT((N.row(v) * sums.row(v).norm() - sums.row(v)).norm(), 1e-14 * sums.row(v).norm());
 }
+
+TEST(Normals, FaceAnglesSumToPiAndToTheConeAngle) {
+  // Every face's three angles sum to pi (a flat triangle's closed form); around a
+  // vertex they sum to its cone angle (four equilateral faces around each vertex of the
+  // octahedron: 4 pi / 3), and the defects of a closed surface of genus 0 sum to 4 pi
+  // (Descartes).
+  const TriMesh m = shapes::octahedron();
+  std::vector<double> cone(static_cast<std::size_t>(m.V.rows()), 0.0);
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
+    double sum = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double a = faceAngle(m, f, i);
+      EXPECT_GT(a, 0.0);
+      sum += a;
+      cone[static_cast<std::size_t>(m.F(f, i))] += a;
+    }
+    EXPECT_NEAR(sum, M_PI, 1e-14) << "face " << f;
+  }
+  double defects = 0;
+  for (double c : cone) {
+    EXPECT_NEAR(c, 4 * M_PI / 3, 1e-13);
+    defects += 2 * M_PI - c;
+  }
+  EXPECT_NEAR(defects, 4 * M_PI, 1e-12);
+  // A right angle, and the two acute angles of a right isosceles triangle, exactly
+  // where the sides are; and a needle's tiny angle to full relative precision
+  // (acos of the normalised dot product loses half the digits there).
+  TriMesh t;
+  t.V.resize(3, 3);
+  t.V << 0, 0, 0, 1, 0, 0, 0, 1, 0;
+  t.F.resize(1, 3);
+  t.F << 0, 1, 2;
+  EXPECT_DOUBLE_EQ(faceAngle(t, 0, 0), M_PI / 2);
+  EXPECT_DOUBLE_EQ(faceAngle(t, 0, 1), M_PI / 4);
+  EXPECT_DOUBLE_EQ(faceAngle(t, 0, 2), M_PI / 4);
+  t.V.row(2) << 1, 1e-9, 0;
+  EXPECT_NEAR(faceAngle(t, 0, 0), 1e-9, 1e-24);
+}
