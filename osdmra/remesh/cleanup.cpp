@@ -94,7 +94,7 @@ class Cleaner {
  public:
   Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
           const std::vector<long long>& line, std::vector<Where>& where,
-          const SurfaceWalker& walker);
+          const SurfaceWalker& walker, const std::vector<std::array<int, 2>>* inputCrossings);
 
   void run(const Progress& progress, const std::function<void()>& lastResort);
 
@@ -190,8 +190,10 @@ class Cleaner {
   bool crossingsKnown_ = false;
   // Input faces that cross another face of the input, and the faces around their
   // corners: InputCrossing (atInputCrossing); found once, when the output first has
-  // crossing pairs.
+  // crossing pairs; from the input's crossing pairs, given (cleanUp's inputCrossings) or
+  // found then.
   std::vector<char> inputCrossing_;
+  const std::vector<std::array<int, 2>>* givenInputCrossings_;
   std::vector<int> touched_;
   std::vector<char> isTouched_;
   // Per output vertex, the faces within two rings of it (crossings), once asked for.
@@ -200,7 +202,7 @@ class Cleaner {
 
 Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
                  const std::vector<long long>& line, std::vector<Where>& where,
-                 const SurfaceWalker& walker)
+                 const SurfaceWalker& walker, const std::vector<std::array<int, 2>>* inputCrossings)
     : out_(out),
       m_(out.mesh),
       input_(input),
@@ -225,6 +227,7 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       local_(out.mesh.V.rows(), -1),
       diskBudget_(kDiskBudget * static_cast<long long>(out.mesh.V.rows())),
       untangleBudget_(kUntangleBudget * static_cast<long long>(out.mesh.V.rows())),
+      givenInputCrossings_(inputCrossings),
       isTouched_(out.mesh.V.rows(), 0),
       facesNear_(out.mesh.V.rows()) {}
 
@@ -394,7 +397,10 @@ bool Cleaner::atInputCrossing(Eigen::Index f, InputCrossing kind) {
     inputCrossing_.assign(static_cast<std::size_t>(input_.F.rows()), kNone);
     const auto& start = inputAround_.start;
     const auto& at = inputAround_.faces;
-    for (const auto& pair : findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs) {
+    std::vector<std::array<int, 2>> found;
+    if (!givenInputCrossings_)
+      found = findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs;
+    for (const auto& pair : givenInputCrossings_ ? *givenInputCrossings_ : found) {
       const char mark = foldedTogether(pair[0], pair[1]) ? kFold : kSheets;
       for (int g : pair)
         for (int k = 0; k < 3; ++k)
@@ -1018,8 +1024,9 @@ void Cleaner::run(const Progress& progress, const std::function<void()>& lastRes
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<Where>& where,
              const SurfaceWalker& walker, const Progress& progress,
-             const std::function<void()>& lastResort) {
-  Cleaner(out, input, free, line, where, walker).run(progress, lastResort);
+             const std::function<void()>& lastResort,
+             const std::vector<std::array<int, 2>>* inputCrossings) {
+  Cleaner(out, input, free, line, where, walker, inputCrossings).run(progress, lastResort);
 }
 
 }  // namespace osdmra::remeshing

@@ -11,6 +11,7 @@
 // the input. Remeshing reports how much of it ran.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -25,10 +26,12 @@ namespace osdmra::remeshing {
 /// the defect counts and the clean-up's own of `out`. `lastResort`, if set, is called
 /// once if the repairs leave defects, before the last resort (relaxing whole base faces,
 /// which may take seconds). `progress` reports as the repairs go, and an exception
-/// thrown from it abandons them.
+/// thrown from it abandons them. `inputCrossings`: the input's crossing pairs
+/// (findSelfIntersections) if the caller has them; found here, if needed, otherwise.
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<SurfacePoint>& where,
              const SurfaceWalker& walker, const Progress& progress = {},
-             const std::function<void()>& lastResort = {});
+             const std::function<void()>& lastResort = {},
+             const std::vector<std::array<int, 2>>* inputCrossings = nullptr);
 
 }  // namespace osdmra::remeshing

@@ -1,16 +1,20 @@
 #include "osdmra/remesh/remesh.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <functional>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "osdmra/base/error.h"
 #include "osdmra/geometry/normals.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/mesh/spatial_order.h"
 #include "osdmra/remesh/charts.h"
@@ -52,19 +56,27 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
+// The input's crossing pairs where the simplification needs them
+// (RemeshOptions::baseWithoutNewCrossings, the default), found once for every
+// simplification and clean-up of the input (three on the bunny: 3% of its remesh);
+// none otherwise, and the clean-up finds them if it needs them.
+using Pairs = std::vector<std::array<int, 2>>;
+
 // Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
 // up (`lastResort` as in cleanUp()).
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
-                            const SurfaceWalker& walker, const remeshing::Features& features,
-                            const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
-                            int levels, remeshing::GridMap map, const Progress& progress,
+                            const Pairs* inputCrossings, const SurfaceWalker& walker,
+                            const remeshing::Features& features, const remeshing::Simplification& s,
+                            const remeshing::BaseCharts& charts, int levels, remeshing::GridMap map,
+                            const Progress& progress,
                             const std::function<void()>& lastResort = {}) {
   using namespace remeshing;
   Remeshing out = common;
   Resampled grid =
       resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
   out.mesh = std::move(grid.mesh);
-  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort);
+  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort,
+          inputCrossings);
   return out;
 }
 
@@ -171,15 +183,16 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
 
 // Steps 1 to 3 (remesh()) with the simplification's stages relaxed vertex by vertex or
 // mesh-wide.
-Remeshing remeshedOver(const TriMesh& input, const FeatureChoice& choice,
-                       const RemeshOptions& options, bool stagesPerVertex,
-                       const Progress& progress) {
+Remeshing remeshedOver(const TriMesh& input, const Pairs* inputCrossings,
+                       const FeatureChoice& choice, const RemeshOptions& options,
+                       bool stagesPerVertex, const Progress& progress) {
   using namespace remeshing;
   Remeshing out;
   out.stages = stagesPerVertex ? "vertex" : "mesh";
 
   SimplifyOptions how;
   how.noNewCrossings = options.baseWithoutNewCrossings;
+  how.inputCrossings = inputCrossings;
   how.stagesPerVertex = stagesPerVertex;
   how.retriangulateByError = options.retriangulateByError;
   how.skinnyWhereFlat = options.skinnyWhereFlat;
@@ -217,13 +230,13 @@ Remeshing remeshedOver(const TriMesh& input, const FeatureChoice& choice,
   // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
   // the straightened map, none through the exact one).
   auto exactMap = [&](const Progress& p) {
-    return sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::exact,
-                             p);
+    return sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, out.levels,
+                             GridMap::exact, p);
   };
   ExactMapBeside beside;
   Remeshing best =
-      sampledAndCleaned(out, input, walker, features, s, charts, out.levels, GridMap::straightened,
-                        progress, [&] { beside.start(exactMap); });
+      sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, out.levels,
+                        GridMap::straightened, progress, [&] { beside.start(exactMap); });
   const long long straightenedLeft = defectsLeft(best);
   long long exactLeft = -1;
   if (straightenedLeft > 0) {
@@ -257,15 +270,19 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   // the work, and moved single rows of docs/REMESH.md's table either way).
   const TriMesh input = inSpatialOrder(given);
   const FeatureChoice features(input, options);
+  Pairs found;
+  if (options.baseWithoutNewCrossings)
+    found = findSelfIntersections(input, std::numeric_limits<int>::max()).pairs;
+  const Pairs* crossings = options.baseWithoutNewCrossings ? &found : nullptr;
   const bool perVertexFirst = options.stages != StageRelaxation::meshWide;
-  Remeshing best = remeshedOver(input, features, options, perVertexFirst, progress);
+  Remeshing best = remeshedOver(input, crossings, features, options, perVertexFirst, progress);
   if (options.stages != StageRelaxation::perVertexElseMeshWide) return best;
   // The fallback (StageRelaxation::perVertexElseMeshWide): on the corpus of
   // docs/REMESH.md the per-vertex remesh had defects on 8 of 96 runs, the mesh-wide one
   // on none of those but the cow's.
   best.perVertexDefects = defectsBeyondInput(best);
   if (best.perVertexDefects == 0) return best;
-  Remeshing meshWide = remeshedOver(input, features, options, false, progress);
+  Remeshing meshWide = remeshedOver(input, crossings, features, options, false, progress);
   if (defectsBeyondInput(meshWide) >= best.perVertexDefects) return best;
   meshWide.perVertexDefects = best.perVertexDefects;
   return meshWide;

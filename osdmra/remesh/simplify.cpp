@@ -56,7 +56,7 @@ class Simplifier {
         stagesPerVertex_(options.stagesPerVertex),
         skinnyWhereFlat_(options.skinnyWhereFlat) {
     const int n = static_cast<int>(m.V.rows());
-    if (noNewCrossings_) markInputCrossings(m);
+    if (noNewCrossings_) markInputCrossings(m, options.inputCrossings);
     faces_.reserve(2 * m.F.rows());
     vertFaces_.resize(n);
     inputFaces_.resize(n);
@@ -134,7 +134,7 @@ class Simplifier {
   void gatherNear(const Ring& r) const;
   Box boxOf(const std::array<int, 3>& t) const;
   void indexFaces();
-  void markInputCrossings(const TriMesh& m);
+  void markInputCrossings(const TriMesh& m, const std::vector<std::array<int, 2>>* known);
   void commit(int v, const Plan& p);
   void markChanged(const Ring& ring);
   bool refusedAndUnchanged(int v) const;
@@ -610,9 +610,12 @@ Simplifier::Box Simplifier::boxOf(const std::array<int, 3>& t) const {
 // of an input face that crosses another may cross faces that hold one (the cow, the
 // ogre: refused, such removals left their bases a third larger than without the check,
 // and the knots where two sheets cross are the input's either way).
-void Simplifier::markInputCrossings(const TriMesh& m) {
+void Simplifier::markInputCrossings(const TriMesh& m,
+                                    const std::vector<std::array<int, 2>>* known) {
   atInputCrossing_.assign(static_cast<std::size_t>(m.V.rows()), 0);
-  for (const auto& pair : findSelfIntersections(m, std::numeric_limits<int>::max()).pairs)
+  std::vector<std::array<int, 2>> found;
+  if (!known) found = findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;
+  for (const auto& pair : known ? *known : found)
     for (int f : pair)
       for (int k = 0; k < 3; ++k) atInputCrossing_[static_cast<std::size_t>(m.F(f, k))] = 1;
 }

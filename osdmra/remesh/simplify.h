@@ -125,6 +125,10 @@ struct SimplifyOptions {
   /// stays as close to the input as a fat face does, while one across a bend does not
   /// (RemeshOptions::skinnyWhereFlat).
   double skinnyWhereFlat = 0;
+  /// The input's crossing pairs (findSelfIntersections), where the caller has them
+  /// already (remesh() finds them once for every simplification and clean-up); found
+  /// here otherwise. Read under noNewCrossings only.
+  const std::vector<std::array<int, 2>>* inputCrossings = nullptr;
 };
 
 /// The smallest angle, in degrees, of a new face that SimplifyOptions::skinnyWhereFlat
