@@ -141,6 +141,17 @@ Points rebuild(const FilterBank& bank, const OszHeader& h, Points c,
   return c;
 }
 
+// Per level, whether each wavelet's coefficient (three steps) is nonzero.
+std::vector<std::vector<char>> nonzeroWavelets(const std::vector<std::vector<double>>& steps) {
+  std::vector<std::vector<char>> nonzero(steps.size());
+  for (std::size_t j = 0; j < steps.size(); ++j) {
+    nonzero[j].assign(steps[j].size() / 3, 0);
+    for (std::size_t i = 0; i < steps[j].size(); ++i)
+      if (steps[j][i] != 0) nonzero[j][i / 3] = 1;
+  }
+  return nonzero;
+}
+
 // The zerotree of the first `size` bytes of coefficient data.
 ZerotreeState decodeCoefficients(const EdgeTree& tree, const OszHeader& h,
                                  const std::vector<std::uint8_t>& data, std::size_t size) {
@@ -340,17 +351,18 @@ Decompressed decompress(const std::uint8_t* data, std::size_t size, const std::s
   const bool local = correctionsAreLocal(h.wavelets);
   std::future<void> second = std::async(std::launch::async, [&] {
     hier.prepareRefinement();
-    if (local)
-      takeLevels();
-    else
-      bank.alpha = waveletCorrections(hier, h.scheme, h.wavelets);
+    if (local) takeLevels();
   });
   const ZerotreeState state =
       decodeCoefficients(edgeTree(hier), h, f.coefficients, f.coefficients.size());
   if (local) takeLevels();
   second.get();
+  const std::vector<std::vector<double>> steps = reconstruct(state);
+  // Solved corrections (quasi-wavelets) only for the wavelets the stream made nonzero:
+  // at the rates a stream is cut to, most are zero, and their columns add nothing.
+  if (!local) bank.alpha = waveletCorrections(hier, h.scheme, h.wavelets, nonzeroWavelets(steps));
   Decompressed out;
-  out.mesh.V = rebuild(bank, h, base.V, reconstruct(state));
+  out.mesh.V = rebuild(bank, h, base.V, steps);
   // Finite fields can still multiply out of range (a huge step, a coefficient of
   // 2^29 steps): such a stream cannot be an encoder's.
   if (!out.mesh.V.allFinite())

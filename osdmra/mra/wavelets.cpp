@@ -373,8 +373,9 @@ class LocalCorrections {
 
   ElementGram& elements() { return elements_; }
 
-  /// alpha^j, and the norms of level j's wavelets when `norms` is given.
-  AlphaMatrix level(int j, Eigen::VectorXd* norms);
+  /// alpha^j, and the norms of level j's wavelets when `norms` is given; only the
+  /// columns `needed` marks when it is given (the others empty).
+  AlphaMatrix level(int j, Eigen::VectorXd* norms, const std::vector<char>* needed = nullptr);
 
  private:
   struct Entry {
@@ -408,7 +409,8 @@ class LocalCorrections {
   std::optional<Entry> regularEntry_;
 };
 
-AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms) {
+AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
+                                    const std::vector<char>* needed) {
   const int n = h_.numVertices(j), numNew = h_.numVertices(j + 1) - n;
   Level L{j,
           h_.connectivity(j),
@@ -430,6 +432,10 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms) {
   if (norms) norms->resize(numNew);
   const double normScale = std::ldexp(1.0, -2 * (j + 1));
   for (int e = 0; e < numNew; ++e) {
+    if (needed && !(*needed)[e]) {
+      alpha.startVec(e);
+      continue;
+    }
     const Entry& entry = entryOf(L, e, norms != nullptr);
     columnOf(L, e, entry);
     alpha.startVec(e);
@@ -535,6 +541,31 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                     : local.level(j, levelNorms);
   }
   if (progress) progress("wavelets", 1.0);
+  return alphas;
+}
+
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+                                            const WaveletOptions& options,
+                                            const std::vector<std::vector<char>>& needed) {
+  checkOptions(h, options);
+  const int J = h.levels();
+  if (static_cast<int>(needed.size()) != J)
+    throw Error("waveletCorrections: one mask per level is needed, got " +
+                std::to_string(needed.size()) + " for " + std::to_string(J));
+  std::vector<AlphaMatrix> alphas(J);
+  LocalCorrections local(h, scheme, options, nullptr);
+  for (int j = 0; j < J; ++j) {
+    if (static_cast<int>(needed[j].size()) != h.numVertices(j + 1) - h.numVertices(j))
+      throw Error("waveletCorrections: level " + std::to_string(j) + "'s mask has " +
+                  std::to_string(needed[j].size()) + " entries for " +
+                  std::to_string(h.numVertices(j + 1) - h.numVertices(j)) + " wavelets");
+    if (correctionsAreLocal(options))
+      localCorrections(h, scheme, options.kind, j, alphas[j]);
+    else if (options.kind == WaveletKind::Pre)
+      alphas[j] = preWavelets(h, scheme, j, local.elements(), nullptr);
+    else
+      alphas[j] = local.level(j, nullptr, &needed[j]);
+  }
   return alphas;
 }
 

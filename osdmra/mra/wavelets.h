@@ -53,6 +53,15 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                                             WaveletStats* stats = nullptr,
                                             std::vector<Eigen::VectorXd>* norms = nullptr);
 
+/// The columns of alpha^j that `needed[j]` marks (one entry per new vertex of level
+/// j + 1), the others left empty: what a decoder needs to synthesise where most
+/// coefficients are zero (a wavelet whose coefficient is zero adds nothing, whatever its
+/// column). The marked columns are those of the call above, value for value; only
+/// quasi-wavelets skip work (their columns are solved), the others are cheap whole.
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+                                            const WaveletOptions& options,
+                                            const std::vector<std::vector<char>>& needed);
+
 /// Whether alpha^j of these wavelets is read off the hierarchy alone, level by level
 /// (fixed and lazy wavelets: no neighbourhood solved), as a decoder needs.
 bool correctionsAreLocal(const WaveletOptions& options);

@@ -215,6 +215,46 @@ TEST(Wavelets, ReuseOnARegularSurface) {
     }
 }
 
+// A decoder's corrections (the masked overload): the marked columns are those of the
+// whole alpha^j (to rounding: which wavelet first solves a neighbourhood shared by
+// others may differ), the others empty; a mask of the wrong shape is refused.
+TEST(Wavelets, OnlyTheMarkedColumnsWhenMasked) {
+  const TriMesh base = shapes::byName("valences");
+  const Hierarchy h(base.F, static_cast<int>(base.V.rows()), 3);
+  for (Scheme s : {Scheme::Loop, Scheme::Linear})
+    for (const WaveletOptions& k : {kLazy, quasi(0), quasi(1), kPre}) {
+      SCOPED_TRACE(std::string(schemeName(s)) + " " + waveletsName(k));
+      const std::vector<AlphaMatrix> whole = waveletCorrections(h, s, k);
+      std::vector<std::vector<char>> needed(3);
+      for (int j = 0; j < 3; ++j) {
+        needed[j].resize(static_cast<std::size_t>(h.numVertices(j + 1) - h.numVertices(j)));
+        for (std::size_t e = 0; e < needed[j].size(); ++e) needed[j][e] = (e * 7 + j) % 3 == 0;
+      }
+      const std::vector<AlphaMatrix> masked = waveletCorrections(h, s, k, needed);
+      ASSERT_EQ(masked.size(), 3u);
+      for (int j = 0; j < 3; ++j) {
+        ASSERT_EQ(masked[j].rows(), whole[j].rows());
+        ASSERT_EQ(masked[j].cols(), whole[j].cols());
+        for (Eigen::Index e = 0; e < whole[j].cols(); ++e) {
+          const Eigen::VectorXd a = Eigen::MatrixXd(masked[j].col(e)),
+                                b = Eigen::MatrixXd(whole[j].col(e));
+          if (needed[j][static_cast<std::size_t>(e)] || k.kind == WaveletKind::Lazy ||
+              k.kind == WaveletKind::Pre) {
+            EXPECT_LE((a - b).lpNorm<Eigen::Infinity>(), 1e-12) << "level " << j << " column " << e;
+          } else {
+            EXPECT_EQ(masked[j].col(e).nonZeros(), 0) << "level " << j << " column " << e;
+          }
+        }
+      }
+    }
+  std::vector<std::vector<char>> wrong(2);
+  expectContains(errorOf([&] { waveletCorrections(h, Scheme::Loop, quasi(1), wrong); }),
+                 {"one mask per level"});
+  wrong.resize(3);
+  expectContains(errorOf([&] { waveletCorrections(h, Scheme::Loop, quasi(1), wrong); }),
+                 {"level 0's mask has 0 entries"});
+}
+
 TEST(Wavelets, RejectsRingsOutOfRange) {
   const TriMesh base = shapes::octahedron();
   const Hierarchy h(base.F, 6, 1);
