@@ -515,12 +515,12 @@ void checkOptions(const Hierarchy& h, const WaveletOptions& options) {
                 " (use quasi-wavelets)");
 }
 
-}  // namespace
-
-std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
-                                            const WaveletOptions& options, const Progress& progress,
-                                            WaveletStats* stats,
-                                            std::vector<Eigen::VectorXd>* norms) {
+// Every new vertex's column of alpha^j for j = 0..J-1, or only those `needed` marks (the
+// others empty), with the norms when asked.
+std::vector<AlphaMatrix> corrections(const Hierarchy& h, Scheme scheme,
+                                     const WaveletOptions& options, const Progress& progress,
+                                     WaveletStats* stats, std::vector<Eigen::VectorXd>* norms,
+                                     const std::vector<std::vector<char>>* needed) {
   checkOptions(h, options);
   const int J = h.levels();
   std::vector<AlphaMatrix> alphas(J);
@@ -538,35 +538,34 @@ std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
     Eigen::VectorXd* levelNorms = norms ? &(*norms)[j] : nullptr;
     alphas[j] = options.kind == WaveletKind::Pre
                     ? preWavelets(h, scheme, j, local.elements(), levelNorms)
-                    : local.level(j, levelNorms);
+                    : local.level(j, levelNorms, needed ? &(*needed)[j] : nullptr);
   }
   if (progress) progress("wavelets", 1.0);
   return alphas;
 }
 
+}  // namespace
+
+std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
+                                            const WaveletOptions& options, const Progress& progress,
+                                            WaveletStats* stats,
+                                            std::vector<Eigen::VectorXd>* norms) {
+  return corrections(h, scheme, options, progress, stats, norms, nullptr);
+}
+
 std::vector<AlphaMatrix> waveletCorrections(const Hierarchy& h, Scheme scheme,
                                             const WaveletOptions& options,
                                             const std::vector<std::vector<char>>& needed) {
-  checkOptions(h, options);
   const int J = h.levels();
   if (static_cast<int>(needed.size()) != J)
     throw Error("waveletCorrections: one mask per level is needed, got " +
                 std::to_string(needed.size()) + " for " + std::to_string(J));
-  std::vector<AlphaMatrix> alphas(J);
-  LocalCorrections local(h, scheme, options, nullptr);
-  for (int j = 0; j < J; ++j) {
+  for (int j = 0; j < J; ++j)
     if (static_cast<int>(needed[j].size()) != h.numVertices(j + 1) - h.numVertices(j))
       throw Error("waveletCorrections: level " + std::to_string(j) + "'s mask has " +
                   std::to_string(needed[j].size()) + " entries for " +
                   std::to_string(h.numVertices(j + 1) - h.numVertices(j)) + " wavelets");
-    if (correctionsAreLocal(options))
-      localCorrections(h, scheme, options.kind, j, alphas[j]);
-    else if (options.kind == WaveletKind::Pre)
-      alphas[j] = preWavelets(h, scheme, j, local.elements(), nullptr);
-    else
-      alphas[j] = local.level(j, nullptr, &needed[j]);
-  }
-  return alphas;
+  return corrections(h, scheme, options, {}, nullptr, nullptr, &needed);
 }
 
 bool correctionsAreLocal(const WaveletOptions& options) {

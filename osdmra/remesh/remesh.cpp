@@ -56,10 +56,7 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
-// The input's crossing pairs where the simplification needs them
-// (RemeshOptions::baseWithoutNewCrossings, the default), found once for every
-// simplification and clean-up of the input (three on the bunny: 3% of its remesh);
-// none otherwise, and the clean-up finds them if it needs them.
+// Crossing pairs of faces, as findSelfIntersections lists them.
 using Pairs = std::vector<std::array<int, 2>>;
 
 // Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
@@ -270,6 +267,10 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   // the work, and moved single rows of docs/REMESH.md's table either way).
   const TriMesh input = inSpatialOrder(given);
   const FeatureChoice features(input, options);
+  // The input's crossing pairs where the simplification needs them
+  // (RemeshOptions::baseWithoutNewCrossings, the default), found once for every
+  // simplification and clean-up (three on the bunny: 3% of its remesh); otherwise none,
+  // and the clean-up finds them if it needs them.
   Pairs found;
   if (options.baseWithoutNewCrossings)
     found = findSelfIntersections(input, std::numeric_limits<int>::max()).pairs;
