@@ -343,12 +343,26 @@ AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& e
 
 namespace {
 
+// The level-(j-1) edge whose midpoint is an end of level j's edge {a, b} (a's, if both
+// are: a level-j edge has at least one).
+int parentEdgeOf(const Hierarchy& h, int j, int a, int b) {
+  const int n = h.numVertices(j - 1);
+  return (a >= n ? a : b) - n;
+}
+
 // Quasi-wavelets (and lazy ones with norms, and fixed ones with norms), level by
 // level: one local solution per distinct neighbourhood, in ball order, shared by
 // every level, since inner products depend on topology only and scale by 4^-j on
 // both sides of the Galerkin system. The norm is stored as 4^{j+1} ||psi||^2, also
 // invariant. Fixed wavelets' alpha is read off the edge's ends; only its norm is
 // shared.
+//
+// Each distinct neighbourhood (the canonical key of an edge's K-ball) is a class.
+// An edge of level j+1 lies in the refinement of its parent edge's ball at level j,
+// which that ball's key determines (for K >= 3: kMinInheritedRadius), so edges with
+// parents of one class, at the same place about them, are of one class too: after
+// level 0 a key is built only for a new (class, place), not for every edge near an
+// extraordinary vertex at every level.
 class LocalCorrections {
  public:
   LocalCorrections(const Hierarchy& h, Scheme scheme, const WaveletOptions& options,
@@ -378,6 +392,14 @@ class LocalCorrections {
   AlphaMatrix level(int j, Eigen::VectorXd* norms, const std::vector<char>* needed = nullptr);
 
  private:
+  // Distances double under the split. A child edge's ends lie one edge of level j+1
+  // from an end p of its parent; a vertex of the child's K-ball is within K + 1 of p,
+  // so it is p's neighbour u, or the midpoint of an edge (u, w), with u within
+  // floor((K + 2) / 2) of p on level j, and its ring is read off u's ring. The parent's
+  // key names every vertex within K of the parent edge and gives the ring of each within
+  // K - 1: enough from K = 3 on.
+  static constexpr int kMinInheritedRadius = 3;
+
   struct Entry {
     Eigen::VectorXd alpha;
     double scaledNorm2 = 0;
@@ -388,12 +410,19 @@ class LocalCorrections {
     const Connectivity& conn;
     const SparseMatrix& P;
     EdgeBall ball;
+    int ballRadius = -1;            // radius `ball` holds for the current edge (-1: none)
+    bool latticeBallsHere = false;  // whether latticeBalls_ is at this level
     // Built on the first cache miss only: at fine levels nearly every edge hits.
     std::optional<LocalGram> coarse, fine;
     std::vector<int> mark, fineMark;
     std::vector<std::pair<int, double>> column;
   };
-  const Entry& entryOf(Level& L, int e, bool withNorm);
+  int parentOf(int j, int a, int b) const { return parentEdgeOf(h_, j, a, b); }
+  int classOf(Level& L, int e, bool inherit, bool needed);
+  int classFromKey(Level& L, int e);
+  bool placeAboutParent(int j, int e, std::uint64_t& place) const;
+  void buildBall(Level& L, int e, int radius);
+  const Entry& entryOf(Level& L, int e, int c, bool withNorm);
   Entry solve(Level& L, int e, bool withNorm);
   void columnOf(Level& L, int e, const Entry& entry);
 
@@ -405,8 +434,13 @@ class LocalCorrections {
   ElementGram elements_;
   LatticeBalls latticeBalls_;
   WaveletStats* stats_;
-  std::unordered_map<std::vector<int>, Entry, KeyHash> cache_;
-  std::optional<Entry> regularEntry_;
+  std::unordered_map<std::vector<int>, int, KeyHash> classOfKey_;
+  std::vector<std::optional<Entry>> entries_;  // per class, solved on first need
+  int latticeClass_ = -1;
+  // (parent's class, the edge's ends about the parent) -> class; the classes of the
+  // previous level's edges.
+  std::unordered_map<std::uint64_t, int> inherited_;
+  std::vector<int> parentClasses_;
 };
 
 AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
@@ -416,55 +450,136 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
           h_.connectivity(j),
           h_.refinement(scheme_, j),
           EdgeBall(h_.connectivity(j)),
+          -1,
+          false,
           {},
           {},
           std::vector<int>(n, -1),
           {},
           {}};
+  const bool inherit = j > 0 && K_ >= kMinInheritedRadius;
   // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
-  // encoding it and reuse the regular solution.
-  latticeBalls_.advance(h_, j);
+  // encoding it and reuse the regular solution. Once its class is known, edges
+  // inherit it from their parents instead, unless a mask leaves parents without a class.
+  L.latticeBallsHere = !(inherit && latticeClass_ >= 0 && !needed);
+  if (L.latticeBallsHere) latticeBalls_.advance(h_, j);
   // alpha^j filled column by column in compressed form (rows sorted within each
   // column), straight into its final storage.
   AlphaMatrix alpha(n, numNew);
-  alpha.reserve(static_cast<Eigen::Index>(numNew) *
-                (regularEntry_ ? regularEntry_->alpha.size() : 2 * (r_ + 1) * (r_ + 2) + 2));
+  const bool latticeSolved = latticeClass_ >= 0 && entries_[latticeClass_];
+  alpha.reserve(static_cast<Eigen::Index>(numNew) * (latticeSolved
+                                                         ? entries_[latticeClass_]->alpha.size()
+                                                         : 2 * (r_ + 1) * (r_ + 2) + 2));
   if (norms) norms->resize(numNew);
   const double normScale = std::ldexp(1.0, -2 * (j + 1));
+  std::vector<int> classes(numNew, -1);
   for (int e = 0; e < numNew; ++e) {
-    if (needed && !(*needed)[e]) {
-      alpha.startVec(e);
-      continue;
-    }
-    const Entry& entry = entryOf(L, e, norms != nullptr);
-    columnOf(L, e, entry);
     alpha.startVec(e);
-    for (auto [row, value] : L.column) alpha.insertBack(row, e) = value;
-    if (norms) (*norms)(e) = std::sqrt(entry.scaledNorm2 * normScale);
-    L.ball.clear();
+    // Every edge's class that costs no key unless the edge is needed: the next level's
+    // edges inherit it.
+    const bool isNeeded = !needed || (*needed)[e];
+    classes[e] = classOf(L, e, inherit, isNeeded);
+    if (isNeeded) {
+      const Entry& entry = entryOf(L, e, classes[e], norms != nullptr);
+      columnOf(L, e, entry);
+      for (auto [row, value] : L.column) alpha.insertBack(row, e) = value;
+      if (norms) (*norms)(e) = std::sqrt(entry.scaledNorm2 * normScale);
+    }
+    if (L.ballRadius >= 0) L.ball.clear();
+    L.ballRadius = -1;
   }
+  parentClasses_ = std::move(classes);
   alpha.finalize();
   alpha.makeCompressed();
   return alpha;
 }
 
-// The shared solution of edge e's neighbourhood (L.ball holds its ball afterwards).
-const LocalCorrections::Entry& LocalCorrections::entryOf(Level& L, int e, bool withNorm) {
+// The class of edge e's neighbourhood: the lattice's, its parent's at the same place,
+// or found from its key; -1 where that would take a key and e is not `needed` (its
+// children then build theirs).
+int LocalCorrections::classOf(Level& L, int e, bool inherit, bool needed) {
   const auto [a, b] = h_.parentEdge(L.j, e);
-  const bool regular = latticeBalls_(a) && latticeBalls_(b);
-  if (regular && regularEntry_) {
-    L.ball.build(a, b, std::max(r_, 0), false);
-    if (stats_) ++stats_->reused;
-    return *regularEntry_;
+  if (latticeClass_ >= 0) {
+    // The refinement of a lattice ball is the lattice's (its edges' balls lie in it).
+    if (inherit && parentClasses_[parentOf(L.j, a, b)] == latticeClass_) return latticeClass_;
+    if (L.latticeBallsHere && latticeBalls_(a) && latticeBalls_(b)) return latticeClass_;
   }
-  L.ball.build(a, b, K_);
-  auto it = cache_.find(L.ball.key);
-  if (it == cache_.end())
-    it = cache_.emplace(L.ball.key, solve(L, e, withNorm)).first;
-  else if (stats_)
-    ++stats_->reused;
-  if (regular) regularEntry_ = it->second;
+  std::uint64_t place = 0;
+  if (!inherit || !placeAboutParent(L.j, e, place)) return needed ? classFromKey(L, e) : -1;
+  const auto it = inherited_.find(place);
+  if (it != inherited_.end()) return it->second;
+  if (!needed) return -1;
+  const int c = classFromKey(L, e);
+  inherited_.emplace(place, c);
+  return c;
+}
+
+int LocalCorrections::classFromKey(Level& L, int e) {
+  buildBall(L, e, K_);
+  if (stats_) ++stats_->keys;
+  auto [it, added] = classOfKey_.emplace(L.ball.key, static_cast<int>(entries_.size()));
+  if (added) entries_.emplace_back();
+  const auto [a, b] = h_.parentEdge(L.j, e);
+  if (latticeClass_ < 0 && L.latticeBallsHere && latticeBalls_(a) && latticeBalls_(b))
+    latticeClass_ = it->second;
   return it->second;
+}
+
+// `place` = (the class of the level-(j-1) edge {p, q} whose midpoint is an end of e, how
+// each end of e lies about that edge): p or q itself, its midpoint, or the midpoint of
+// an edge from p or q to the third corner of the face after or before it in that
+// end's ring (the rings' order is the orientation the parent's key is read in), three
+// bits each below the class. False where the parent has no class.
+bool LocalCorrections::placeAboutParent(int j, int e, std::uint64_t& place) const {
+  const int n = h_.numVertices(j - 1);
+  const auto [a, b] = h_.parentEdge(j, e);
+  const int parent = parentOf(j, a, b);
+  const int parentClass = parentClasses_[parent];
+  if (parentClass < 0) return false;
+  const auto [p, q] = h_.parentEdge(j - 1, parent);
+  const Connectivity& conn = h_.connectivity(j - 1);
+  place = static_cast<std::uint64_t>(parentClass);
+  for (const int v : {a, b}) {
+    int code = -1;
+    if (v < n) {
+      code = v == p ? 0 : 1;
+    } else if (v - n == parent) {
+      code = 2;
+    } else {
+      const auto [s, t] = h_.parentEdge(j - 1, v - n);
+      const int shared = s == p || s == q ? s : t, corner = shared == s ? t : s;
+      const IndexSpan ring = conn.ring(shared);
+      const int other = shared == p ? q : p, k = ring.size();
+      int i = 0;
+      while (i < k && ring[i] != other) ++i;
+      if (i == k) return false;
+      code = 3 + 2 * (shared == p ? 0 : 1) + (ring[(i + 1) % k] == corner ? 0 : 1);
+    }
+    place = place << 3 | static_cast<std::uint64_t>(code);
+  }
+  return true;
+}
+
+// L.ball holds edge e's ball of at least `radius` (encoded when radius is K).
+void LocalCorrections::buildBall(Level& L, int e, int radius) {
+  if (L.ballRadius >= radius) return;
+  if (L.ballRadius >= 0) L.ball.clear();
+  const auto [a, b] = h_.parentEdge(L.j, e);
+  L.ball.build(a, b, radius, radius == K_);
+  L.ballRadius = radius;
+}
+
+// The shared solution of class c, solved from edge e if it is not yet; L.ball holds at
+// least e's r-ball afterwards (S is its prefix).
+const LocalCorrections::Entry& LocalCorrections::entryOf(Level& L, int e, int c, bool withNorm) {
+  buildBall(L, e, std::max(r_, 0));
+  std::optional<Entry>& entry = entries_[c];
+  if (entry) {
+    if (stats_) ++stats_->reused;
+  } else {
+    entry = solve(L, e, withNorm);
+  }
+  return *entry;
 }
 
 LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) {

@@ -39,6 +39,9 @@ constexpr int kMaxPreWaveletVertices = 5000;
 struct WaveletStats {
   long long localSolves = 0;  ///< distinct neighbourhoods actually solved
   long long reused = 0;       ///< new vertices that reused a cached solution
+  /// Neighbourhoods whose canonical key was built: the others' were known from their
+  /// parent edge's (or were the lattice's).
+  long long keys = 0;
 };
 
 /// alpha^j: n_j x (n_{j+1} - n_j), column-major; column e belongs to the new vertex

@@ -399,3 +399,62 @@ TEST(Wavelets, FixedWeightsAreTheLatticeQuasiWavelets) {
       EXPECT_EQ(Eigen::MatrixXd(withNorms[j]), Eigen::MatrixXd(fi[j])) << "level " << j;
   }
 }
+
+// Edges take their neighbourhood's class from their parent edge's (wavelets.cpp): level j
+// of a hierarchy has the corrections and norms of a hierarchy whose base is that level,
+// where every key is built, on shapes with boundaries, irregular vertices and a torus
+// whose coarse balls wrap around, for every radius the classes pass down from (K >= 3).
+TEST(Wavelets, ALevelsCorrectionsAreThoseOfItsLevelAsABase) {
+  for (const char* name : {"disc", "valences", "torus"}) {
+    const TriMesh base = shapes::byName(name);
+    const int J = std::string(name) == "valences" ? 3 : 4;  // its levels grow fastest
+    const Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+    for (Scheme s : {Scheme::Loop, Scheme::Linear})
+      for (const WaveletOptions& k :
+           {kLazy, quasi(0), quasi(1), quasi(2), WaveletOptions{WaveletKind::Fixed, 0}}) {
+        SCOPED_TRACE(std::string(name) + " " + schemeName(s) + " " + waveletsName(k));
+        std::vector<Eigen::VectorXd> norms;
+        const std::vector<AlphaMatrix> alphas = waveletCorrections(h, s, k, {}, nullptr, &norms);
+        for (int j = 1; j < J; ++j) {
+          SCOPED_TRACE("level " + std::to_string(j));
+          // The same vertices; the new ones (edges) numbered in another order.
+          const Hierarchy own(h.faces(j), h.numVertices(j), 1);
+          std::vector<Eigen::VectorXd> ownNorms;
+          const AlphaMatrix ownAlpha = waveletCorrections(own, s, k, {}, nullptr, &ownNorms)[0];
+          ASSERT_EQ(ownAlpha.nonZeros(), alphas[j].nonZeros());
+          for (int e = 0; e < ownAlpha.cols(); ++e) {
+            const auto [a, b] = own.parentEdge(0, e);
+            const int m = h.midpoint(j, a, b) - h.numVertices(j);
+            ASSERT_GE(m, 0);
+            const Eigen::SparseVector<double> d = ownAlpha.col(e) - alphas[j].col(m);
+            double worst = 0;
+            for (Eigen::SparseVector<double>::InnerIterator it(d); it; ++it)
+              worst = std::max(worst, std::abs(it.value()));
+            EXPECT_LE(worst, 1e-12) << "edge " << a << "-" << b;
+            // Norms scale by 2^-j with the level (the Gram matrices by 4^-j).
+            EXPECT_NEAR(std::ldexp(ownNorms[0](e), -j), norms[j](m), 1e-12 * norms[j](m));
+          }
+        }
+      }
+  }
+}
+
+// Neighbourhoods stop being new: once the balls around the disc's irregular vertices and
+// boundary no longer meet, a further level builds no key (each edge's class comes from
+// its parent's), though it has four times the edges.
+TEST(Wavelets, AFurtherLevelBuildsNoKeyOnceBallsStopMeeting) {
+  const TriMesh base = shapes::disc();
+  for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
+    SCOPED_TRACE(schemeName(s));
+    long long keys[2] = {0, 0};
+    for (int J : {5, 6}) {
+      const Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
+      WaveletStats stats;
+      waveletCorrections(h, s, quasi(1), {}, &stats);
+      EXPECT_EQ(stats.localSolves + stats.reused, h.numVertices(J) - h.numVertices(0));
+      keys[J - 5] = stats.keys;
+    }
+    EXPECT_GT(keys[0], 0);
+    EXPECT_EQ(keys[1], keys[0]);
+  }
+}
