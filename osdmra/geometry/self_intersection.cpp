@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
+#include <limits>
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/geometry/distance.h"
@@ -135,6 +136,18 @@ SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
   std::sort(out.pairs.begin(), out.pairs.end());
   if (out.pairs.size() > kept) out.pairs.resize(kept);
   return out;
+}
+
+std::vector<std::array<int, 2>> crossingPairs(const TriMesh& mesh) {
+  return findSelfIntersections(mesh, std::numeric_limits<int>::max()).pairs;
+}
+
+const std::vector<std::array<int, 2>>& crossingPairs(const TriMesh& mesh,
+                                                     const std::vector<std::array<int, 2>>* given,
+                                                     std::vector<std::array<int, 2>>& found) {
+  if (given) return *given;
+  found = crossingPairs(mesh);
+  return found;
 }
 
 std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,

@@ -31,6 +31,16 @@ bool trianglesMeet(const Points& V, const std::array<int, 3>& f, const std::arra
 /// detected. Throws Error for a mesh without faces.
 SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed = 16);
 
+/// Every pair of SelfIntersections::count, sorted (findSelfIntersections without a
+/// limit on the pairs listed).
+std::vector<std::array<int, 2>> crossingPairs(const TriMesh& mesh);
+
+/// `given` where a caller has a mesh's crossing pairs already, else crossingPairs(mesh),
+/// kept in `found`: the input's pairs are found once and passed down (remesh.h).
+const std::vector<std::array<int, 2>>& crossingPairs(const TriMesh& mesh,
+                                                     const std::vector<std::array<int, 2>>* given,
+                                                     std::vector<std::array<int, 2>>& found);
+
 /// Every pair {f, g} (f < g) of SelfIntersections::count with f or g among `faces`
 /// (indices of rows of mesh.F), sorted: what a recount would change after the corners
 /// of `faces` moved, at the cost of a bounding volume hierarchy over `faces` alone.

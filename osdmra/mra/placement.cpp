@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -390,7 +389,7 @@ CrossingPairs crossingPairs(const Faces& F, const Points& V) {
   TriMesh m;
   m.V = V;
   m.F = F;
-  return findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;  // sorted
+  return osdmra::crossingPairs(m);  // sorted
 }
 
 // withoutNewCrossings with the crossing pairs of `from` given (`pairs`), which it

@@ -350,7 +350,7 @@ std::pair<int, double> Cleaner::quality(int v) const {
 // since and test only the faces around the points moved.
 void Cleaner::updateCrossings() {
   if (!crossingsKnown_) {
-    crossings_ = findSelfIntersections(m_, std::numeric_limits<int>::max()).pairs;
+    crossings_ = crossingPairs(m_);
     crossingsKnown_ = true;
   } else {
     std::vector<char> moved(static_cast<std::size_t>(m_.F.rows()), 0);
@@ -400,9 +400,7 @@ bool Cleaner::atInputCrossing(Eigen::Index f, InputCrossing kind) {
     const auto& start = inputAround_.start;
     const auto& at = inputAround_.faces;
     std::vector<std::array<int, 2>> found;
-    if (!givenInputCrossings_)
-      found = findSelfIntersections(input_, std::numeric_limits<int>::max()).pairs;
-    for (const auto& pair : givenInputCrossings_ ? *givenInputCrossings_ : found) {
+    for (const auto& pair : crossingPairs(input_, givenInputCrossings_, found)) {
       const char mark = foldedTogether(pair[0], pair[1]) ? kFold : kSheets;
       for (int g : pair)
         for (int k = 0; k < 3; ++k)

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <functional>
 #include <future>
-#include <limits>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -272,8 +271,7 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   // simplification and clean-up (three on the bunny: 3% of its remesh); otherwise none,
   // and the clean-up finds them if it needs them.
   Pairs found;
-  if (options.baseWithoutNewCrossings)
-    found = findSelfIntersections(input, std::numeric_limits<int>::max()).pairs;
+  if (options.baseWithoutNewCrossings) found = crossingPairs(input);
   const Pairs* crossings = options.baseWithoutNewCrossings ? &found : nullptr;
   const bool perVertexFirst = options.stages != StageRelaxation::meshWide;
   Remeshing best = remeshedOver(input, crossings, features, options, perVertexFirst, progress);

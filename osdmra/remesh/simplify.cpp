@@ -614,8 +614,7 @@ void Simplifier::markInputCrossings(const TriMesh& m,
                                     const std::vector<std::array<int, 2>>* known) {
   atInputCrossing_.assign(static_cast<std::size_t>(m.V.rows()), 0);
   std::vector<std::array<int, 2>> found;
-  if (!known) found = findSelfIntersections(m, std::numeric_limits<int>::max()).pairs;
-  for (const auto& pair : known ? *known : found)
+  for (const auto& pair : crossingPairs(m, known, found))
     for (int f : pair)
       for (int k = 0; k < 3; ++k) atInputCrossing_[static_cast<std::size_t>(m.F(f, k))] = 1;
 }
