@@ -424,7 +424,7 @@ class LocalCorrections {
   void buildBall(Level& L, int e, int radius);
   const Entry& entryOf(Level& L, int e, int c, bool withNorm);
   Entry solve(Level& L, int e, bool withNorm);
-  void columnOf(Level& L, int e, const Entry& entry);
+  void columnOf(Level& L, int e, int c, const Entry& entry);
 
   const Hierarchy& h_;
   Scheme scheme_;
@@ -481,7 +481,7 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
     classes[e] = classOf(L, e, inherit, isNeeded);
     if (isNeeded) {
       const Entry& entry = entryOf(L, e, classes[e], norms != nullptr);
-      columnOf(L, e, entry);
+      columnOf(L, e, classes[e], entry);
       for (auto [row, value] : L.column) alpha.insertBack(row, e) = value;
       if (norms) (*norms)(e) = std::sqrt(entry.scaledNorm2 * normScale);
     }
@@ -569,14 +569,14 @@ void LocalCorrections::buildBall(Level& L, int e, int radius) {
   L.ballRadius = radius;
 }
 
-// The shared solution of class c, solved from edge e if it is not yet; L.ball holds at
-// least e's r-ball afterwards (S is its prefix).
+// The shared solution of class c, solved from edge e (its r-ball: S is its prefix) if it
+// is not yet.
 const LocalCorrections::Entry& LocalCorrections::entryOf(Level& L, int e, int c, bool withNorm) {
-  buildBall(L, e, std::max(r_, 0));
   std::optional<Entry>& entry = entries_[c];
   if (entry) {
     if (stats_) ++stats_->reused;
   } else {
+    buildBall(L, e, std::max(r_, 0));
     entry = solve(L, e, withNorm);
   }
   return *entry;
@@ -591,7 +591,7 @@ LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) 
   Entry entry;
   std::vector<int> S(L.ball.verts.begin(), L.ball.verts.begin() + L.ball.within(r_));
   if (fixed_) {
-    columnOf(L, e, entry);
+    columnOf(L, e, -1, entry);
     S.clear();
     entry.alpha.resize(static_cast<Eigen::Index>(L.column.size()));
     for (std::size_t i = 0; i < L.column.size(); ++i) {
@@ -607,16 +607,39 @@ LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) 
   return entry;
 }
 
-// Edge e's column of alpha^j in L.column, (row, value) with rows ascending.
-void LocalCorrections::columnOf(Level& L, int e, const Entry& entry) {
+// Edge e's column of alpha^j (class c) in L.column, (row, value) with rows ascending.
+void LocalCorrections::columnOf(Level& L, int e, int c, const Entry& entry) {
+  const auto [a, b] = h_.parentEdge(L.j, e);
   if (fixed_) {
-    const auto [a, b] = h_.parentEdge(L.j, e);
     fixedColumn(L.conn, a, b, lattice_, L.column);
     return;
   }
   L.column.clear();
-  for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
-    L.column.emplace_back(L.ball.verts[i], entry.alpha(i));
+  if (c == latticeClass_ && r_ <= 1) {
+    // Most edges: S in its ball's order read off the two rings, without a ball (a
+    // lattice ball does not wrap): a, b, a's ring on from b, then b's ring on from a
+    // but for the two corners both rings share.
+    const IndexSpan ringA = L.conn.ring(a), ringB = L.conn.ring(b);
+    int fromA = 0, fromB = 0;
+    while (ringA[fromA] != b) ++fromA;
+    while (ringB[fromB] != a) ++fromB;
+    const int order[10] = {a,
+                           b,
+                           ringA[(fromA + 1) % 6],
+                           ringA[(fromA + 2) % 6],
+                           ringA[(fromA + 3) % 6],
+                           ringA[(fromA + 4) % 6],
+                           ringA[(fromA + 5) % 6],
+                           ringB[(fromB + 2) % 6],
+                           ringB[(fromB + 3) % 6],
+                           ringB[(fromB + 4) % 6]};
+    for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
+      L.column.emplace_back(order[i], entry.alpha(i));
+  } else {
+    buildBall(L, e, std::max(r_, 0));
+    for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
+      L.column.emplace_back(L.ball.verts[i], entry.alpha(i));
+  }
   std::sort(L.column.begin(), L.column.end());
 }
 
