@@ -416,6 +416,7 @@ class LocalCorrections {
     std::optional<LocalGram> coarse, fine;
     std::vector<int> mark, fineMark;
     std::vector<std::pair<int, double>> column;
+    std::vector<int> order;  // S for r <= 1 (columnOf)
   };
   int parentOf(int j, int a, int b) const { return parentEdgeOf(h_, j, a, b); }
   int classOf(Level& L, int e, bool inherit, bool needed);
@@ -424,7 +425,7 @@ class LocalCorrections {
   void buildBall(Level& L, int e, int radius);
   const Entry& entryOf(Level& L, int e, int c, bool withNorm);
   Entry solve(Level& L, int e, bool withNorm);
-  void columnOf(Level& L, int e, int c, const Entry& entry);
+  void columnOf(Level& L, int e, const Entry& entry);
 
   const Hierarchy& h_;
   Scheme scheme_;
@@ -456,6 +457,7 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
           {},
           std::vector<int>(n, -1),
           {},
+          {},
           {}};
   const bool inherit = j > 0 && K_ >= kMinInheritedRadius;
   // Edges whose K-ball is the lattice's all have the same neighbourhood: skip
@@ -481,7 +483,7 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
     classes[e] = classOf(L, e, inherit, isNeeded);
     if (isNeeded) {
       const Entry& entry = entryOf(L, e, classes[e], norms != nullptr);
-      columnOf(L, e, classes[e], entry);
+      columnOf(L, e, entry);
       for (auto [row, value] : L.column) alpha.insertBack(row, e) = value;
       if (norms) (*norms)(e) = std::sqrt(entry.scaledNorm2 * normScale);
     }
@@ -591,7 +593,7 @@ LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) 
   Entry entry;
   std::vector<int> S(L.ball.verts.begin(), L.ball.verts.begin() + L.ball.within(r_));
   if (fixed_) {
-    columnOf(L, e, -1, entry);
+    columnOf(L, e, entry);
     S.clear();
     entry.alpha.resize(static_cast<Eigen::Index>(L.column.size()));
     for (std::size_t i = 0; i < L.column.size(); ++i) {
@@ -607,36 +609,35 @@ LocalCorrections::Entry LocalCorrections::solve(Level& L, int e, bool withNorm) 
   return entry;
 }
 
-// Edge e's column of alpha^j (class c) in L.column, (row, value) with rows ascending.
-void LocalCorrections::columnOf(Level& L, int e, int c, const Entry& entry) {
+// Edge e's column of alpha^j in L.column, (row, value) with rows ascending.
+void LocalCorrections::columnOf(Level& L, int e, const Entry& entry) {
   const auto [a, b] = h_.parentEdge(L.j, e);
   if (fixed_) {
     fixedColumn(L.conn, a, b, lattice_, L.column);
     return;
   }
   L.column.clear();
-  if (c == latticeClass_ && r_ <= 1) {
-    // Most edges: S in its ball's order read off the two rings, without a ball (a
-    // lattice ball does not wrap): a, b, a's ring on from b, then b's ring on from a
-    // but for the two corners both rings share.
-    const IndexSpan ringA = L.conn.ring(a), ringB = L.conn.ring(b);
-    int fromA = 0, fromB = 0;
-    while (ringA[fromA] != b) ++fromA;
-    while (ringB[fromB] != a) ++fromB;
-    const int order[10] = {a,
-                           b,
-                           ringA[(fromA + 1) % 6],
-                           ringA[(fromA + 2) % 6],
-                           ringA[(fromA + 3) % 6],
-                           ringA[(fromA + 4) % 6],
-                           ringA[(fromA + 5) % 6],
-                           ringB[(fromB + 2) % 6],
-                           ringB[(fromB + 3) % 6],
-                           ringB[(fromB + 4) % 6]};
+  if (r_ <= 1) {
+    // S in its ball's order, read off the two rings without a ball (a breadth-first
+    // search of one ring): a, b, a's ring on from b, then b's ring on from a but for
+    // the vertices of a's ring.
+    L.order.assign({a, b});
+    if (r_ == 1) {
+      const IndexSpan ringA = L.conn.ring(a), ringB = L.conn.ring(b);
+      const int ka = ringA.size(), kb = ringB.size();
+      int fromA = 0, fromB = 0;
+      while (ringA[fromA] != b) ++fromA;
+      while (ringB[fromB] != a) ++fromB;
+      for (int k = 1; k < ka; ++k) L.order.push_back(ringA[(fromA + k) % ka]);
+      for (int k = 1; k < kb; ++k) {
+        const int w = ringB[(fromB + k) % kb];
+        if (std::find(ringA.begin(), ringA.end(), w) == ringA.end()) L.order.push_back(w);
+      }
+    }
     for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
-      L.column.emplace_back(order[i], entry.alpha(i));
+      L.column.emplace_back(L.order[static_cast<std::size_t>(i)], entry.alpha(i));
   } else {
-    buildBall(L, e, std::max(r_, 0));
+    buildBall(L, e, r_);
     for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
       L.column.emplace_back(L.ball.verts[i], entry.alpha(i));
   }
