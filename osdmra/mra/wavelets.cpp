@@ -109,6 +109,28 @@ Eigen::VectorXd projectColumn(const std::vector<std::pair<int, double>>& column,
   return b;
 }
 
+// The vertices within r <= 1 edges of {a, b} (none for r < 0) in EdgeBall's order,
+// read off the two rings without a ball: a, b, a's ring on from b, then b's ring on
+// from a but for a's ring. False where a ring lacks the edge's other end (a
+// non-manifold vertex's partial ring): the ball is built then.
+bool oneRingOrder(const Connectivity& conn, int a, int b, int r, std::vector<int>& order) {
+  order.clear();
+  if (r < 0) return true;
+  order.assign({a, b});
+  if (r == 0) return true;
+  const IndexSpan ringA = conn.ring(a), ringB = conn.ring(b);
+  const int ka = ringA.size(), kb = ringB.size();
+  const int fromA = static_cast<int>(std::find(ringA.begin(), ringA.end(), b) - ringA.begin());
+  const int fromB = static_cast<int>(std::find(ringB.begin(), ringB.end(), a) - ringB.begin());
+  if (fromA == ka || fromB == kb) return false;
+  for (int k = 1; k < ka; ++k) order.push_back(ringA[(fromA + k) % ka]);
+  for (int k = 1; k < kb; ++k) {
+    const int w = ringB[(fromB + k) % kb];
+    if (std::find(ringA.begin(), ringA.end(), w) == ringA.end()) order.push_back(w);
+  }
+  return true;
+}
+
 // Which vertices of a level have a "lattice" neighbourhood: every vertex within R
 // edges is interior with valence 6 and the R-ball does not wrap around (a torus of
 // a small base does), i.e. it holds exactly the 1 + 3R(R+1) vertices of the
@@ -416,7 +438,7 @@ class LocalCorrections {
     std::optional<LocalGram> coarse, fine;
     std::vector<int> mark, fineMark;
     std::vector<std::pair<int, double>> column;
-    std::vector<int> order;  // S for r <= 1 (columnOf)
+    std::vector<int> order;  // S for r <= 1 (oneRingOrder)
   };
   int parentOf(int j, int a, int b) const { return parentEdgeOf(h_, j, a, b); }
   int classOf(Level& L, int e, bool inherit, bool needed);
@@ -617,30 +639,14 @@ void LocalCorrections::columnOf(Level& L, int e, const Entry& entry) {
     return;
   }
   L.column.clear();
-  if (r_ <= 1) {
-    // S in its ball's order, read off the two rings without a ball (a breadth-first
-    // search of one ring): a, b, a's ring on from b, then b's ring on from a but for
-    // the vertices of a's ring.
-    L.order.assign({a, b});
-    if (r_ == 1) {
-      const IndexSpan ringA = L.conn.ring(a), ringB = L.conn.ring(b);
-      const int ka = ringA.size(), kb = ringB.size();
-      int fromA = 0, fromB = 0;
-      while (ringA[fromA] != b) ++fromA;
-      while (ringB[fromB] != a) ++fromB;
-      for (int k = 1; k < ka; ++k) L.order.push_back(ringA[(fromA + k) % ka]);
-      for (int k = 1; k < kb; ++k) {
-        const int w = ringB[(fromB + k) % kb];
-        if (std::find(ringA.begin(), ringA.end(), w) == ringA.end()) L.order.push_back(w);
-      }
-    }
-    for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
-      L.column.emplace_back(L.order[static_cast<std::size_t>(i)], entry.alpha(i));
-  } else {
-    buildBall(L, e, r_);
-    for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
-      L.column.emplace_back(L.ball.verts[i], entry.alpha(i));
+  const std::vector<int>* S = &L.order;
+  if (r_ > 1 || !oneRingOrder(L.conn, a, b, r_, L.order) ||
+      static_cast<Eigen::Index>(L.order.size()) != entry.alpha.size()) {
+    buildBall(L, e, std::max(r_, 0));
+    S = &L.ball.verts;
   }
+  for (Eigen::Index i = 0; i < entry.alpha.size(); ++i)
+    L.column.emplace_back((*S)[static_cast<std::size_t>(i)], entry.alpha(i));
   std::sort(L.column.begin(), L.column.end());
 }
 
