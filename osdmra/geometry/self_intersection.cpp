@@ -138,20 +138,18 @@ SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed) {
   return out;
 }
 
-std::vector<std::array<int, 2>> crossingPairs(const TriMesh& mesh) {
+CrossingPairs crossingPairs(const TriMesh& mesh) {
   return findSelfIntersections(mesh, std::numeric_limits<int>::max()).pairs;
 }
 
-const std::vector<std::array<int, 2>>& crossingPairs(const TriMesh& mesh,
-                                                     const std::vector<std::array<int, 2>>* given,
-                                                     std::vector<std::array<int, 2>>& found) {
+const CrossingPairs& crossingPairs(const TriMesh& mesh, const CrossingPairs* given,
+                                   CrossingPairs& found) {
   if (given) return *given;
   found = crossingPairs(mesh);
   return found;
 }
 
-std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,
-                                                      const std::vector<int>& faces) {
+CrossingPairs selfIntersectionsWith(const TriMesh& mesh, const std::vector<int>& faces) {
   if (faces.empty()) return {};
   TriMesh subset;
   subset.V = mesh.V;

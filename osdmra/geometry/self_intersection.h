@@ -10,6 +10,9 @@
 
 namespace osdmra {
 
+/// Pairs of faces (f, g), f < g, that cross (SelfIntersections::count's rule).
+using CrossingPairs = std::vector<std::array<int, 2>>;
+
 struct SelfIntersections {
   /// Pairs of faces (f < g) that meet where they should not: faces with no common
   /// vertex that touch or cross, and faces with one common vertex whose opposite edge
@@ -17,7 +20,7 @@ struct SelfIntersections {
   /// tested (a fold across an edge turns a face over: see Remeshing::flippedTriangles).
   long long count = 0;
   /// The first pairs in (f, g) order (at most `maxListed`).
-  std::vector<std::array<int, 2>> pairs;
+  CrossingPairs pairs;
 };
 
 /// Whether triangles f and g (rows of vertex indices into V) meet where they should
@@ -33,18 +36,16 @@ SelfIntersections findSelfIntersections(const TriMesh& mesh, int maxListed = 16)
 
 /// Every pair of SelfIntersections::count, sorted (findSelfIntersections without a
 /// limit on the pairs listed).
-std::vector<std::array<int, 2>> crossingPairs(const TriMesh& mesh);
+CrossingPairs crossingPairs(const TriMesh& mesh);
 
 /// `given` where a caller has a mesh's crossing pairs already, else crossingPairs(mesh),
 /// kept in `found`: the input's pairs are found once and passed down (remesh.h).
-const std::vector<std::array<int, 2>>& crossingPairs(const TriMesh& mesh,
-                                                     const std::vector<std::array<int, 2>>* given,
-                                                     std::vector<std::array<int, 2>>& found);
+const CrossingPairs& crossingPairs(const TriMesh& mesh, const CrossingPairs* given,
+                                   CrossingPairs& found);
 
 /// Every pair {f, g} (f < g) of SelfIntersections::count with f or g among `faces`
 /// (indices of rows of mesh.F), sorted: what a recount would change after the corners
 /// of `faces` moved, at the cost of a bounding volume hierarchy over `faces` alone.
-std::vector<std::array<int, 2>> selfIntersectionsWith(const TriMesh& mesh,
-                                                      const std::vector<int>& faces);
+CrossingPairs selfIntersectionsWith(const TriMesh& mesh, const std::vector<int>& faces);
 
 }  // namespace osdmra

@@ -382,8 +382,6 @@ Points stepWithoutFolds(const Faces& F, const Points& reference, const Points& x
   }
 }
 
-using CrossingPairs = std::vector<std::array<int, 2>>;
-
 CrossingPairs crossingPairs(const Faces& F, const Points& V) {
   if (F.rows() == 0) return {};  // nothing to cross (findSelfIntersections refuses it)
   TriMesh m;

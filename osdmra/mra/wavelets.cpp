@@ -365,13 +365,6 @@ AlphaMatrix preWavelets(const Hierarchy& h, Scheme scheme, int j, ElementGram& e
 
 namespace {
 
-// The level-(j-1) edge whose midpoint is an end of level j's edge {a, b} (a's, if both
-// are: a level-j edge has at least one).
-int parentEdgeOf(const Hierarchy& h, int j, int a, int b) {
-  const int n = h.numVertices(j - 1);
-  return (a >= n ? a : b) - n;
-}
-
 // Quasi-wavelets (and lazy ones with norms, and fixed ones with norms), level by
 // level: one local solution per distinct neighbourhood, in ball order, shared by
 // every level, since inner products depend on topology only and scale by 4^-j on
@@ -440,10 +433,15 @@ class LocalCorrections {
     std::vector<std::pair<int, double>> column;
     std::vector<int> order;  // S for r <= 1 (oneRingOrder)
   };
-  int parentOf(int j, int a, int b) const { return parentEdgeOf(h_, j, a, b); }
+  // The level-(j-1) edge whose midpoint is an end of level j's edge {a, b} (a's, if both
+  // are: a level-j edge has at least one).
+  int parentOf(int j, int a, int b) const {
+    const int n = h_.numVertices(j - 1);
+    return (a >= n ? a : b) - n;
+  }
   int classOf(Level& L, int e, bool inherit, bool needed);
   int classFromKey(Level& L, int e);
-  bool placeAboutParent(int j, int e, std::uint64_t& place) const;
+  bool placeAboutParent(int j, int a, int b, int parent, std::uint64_t& place) const;
   void buildBall(Level& L, int e, int radius);
   const Entry& entryOf(Level& L, int e, int c, bool withNorm);
   Entry solve(Level& L, int e, bool withNorm);
@@ -523,13 +521,15 @@ AlphaMatrix LocalCorrections::level(int j, Eigen::VectorXd* norms,
 // children then build theirs).
 int LocalCorrections::classOf(Level& L, int e, bool inherit, bool needed) {
   const auto [a, b] = h_.parentEdge(L.j, e);
+  const int parent = inherit ? parentOf(L.j, a, b) : -1;
   if (latticeClass_ >= 0) {
     // The refinement of a lattice ball is the lattice's (its edges' balls lie in it).
-    if (inherit && parentClasses_[parentOf(L.j, a, b)] == latticeClass_) return latticeClass_;
+    if (inherit && parentClasses_[parent] == latticeClass_) return latticeClass_;
     if (L.latticeBallsHere && latticeBalls_(a) && latticeBalls_(b)) return latticeClass_;
   }
   std::uint64_t place = 0;
-  if (!inherit || !placeAboutParent(L.j, e, place)) return needed ? classFromKey(L, e) : -1;
+  if (!inherit || !placeAboutParent(L.j, a, b, parent, place))
+    return needed ? classFromKey(L, e) : -1;
   const auto it = inherited_.find(place);
   if (it != inherited_.end()) return it->second;
   if (!needed) return -1;
@@ -549,15 +549,14 @@ int LocalCorrections::classFromKey(Level& L, int e) {
   return it->second;
 }
 
-// `place` = (the class of the level-(j-1) edge {p, q} whose midpoint is an end of e, how
-// each end of e lies about that edge): p or q itself, its midpoint, or the midpoint of
-// an edge from p or q to the third corner of the face after or before it in that
-// end's ring (the rings' order is the orientation the parent's key is read in), three
-// bits each below the class. False where the parent has no class.
-bool LocalCorrections::placeAboutParent(int j, int e, std::uint64_t& place) const {
+// `place` = (the class of the level-(j-1) edge `parent` = {p, q} whose midpoint is an end
+// of level j's edge {a, b}, how each end lies about that edge): p or q itself, its midpoint, or the
+// midpoint of an edge from p or q to the third corner of the face after or before it in that end's
+// ring (the rings' order is the orientation the parent's key is read in), three bits each below the
+// class. False where the parent has no class.
+bool LocalCorrections::placeAboutParent(int j, int a, int b, int parent,
+                                        std::uint64_t& place) const {
   const int n = h_.numVertices(j - 1);
-  const auto [a, b] = h_.parentEdge(j, e);
-  const int parent = parentOf(j, a, b);
   const int parentClass = parentClasses_[parent];
   if (parentClass < 0) return false;
   const auto [p, q] = h_.parentEdge(j - 1, parent);

@@ -95,7 +95,7 @@ class Cleaner {
  public:
   Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
           const std::vector<long long>& line, std::vector<Where>& where,
-          const SurfaceWalker& walker, const std::vector<std::array<int, 2>>* inputCrossings);
+          const SurfaceWalker& walker, const CrossingPairs* inputCrossings);
 
   void run(const Progress& progress, const std::function<void()>& lastResort);
 
@@ -188,14 +188,14 @@ class Cleaner {
   // Faces still to repair, and the faces of the last count of defects.
   std::vector<Eigen::Index> left_, flagged_;
   // The crossing pairs (f < g, sorted) as of the points touched_ since they were counted.
-  std::vector<std::array<int, 2>> crossings_;
+  CrossingPairs crossings_;
   bool crossingsKnown_ = false;
   // Input faces that cross another face of the input, and the faces around their
   // corners: InputCrossing (atInputCrossing); found once, when the output first has
   // crossing pairs; from the input's crossing pairs, given (cleanUp's inputCrossings) or
   // found then.
   std::vector<char> inputCrossing_;
-  const std::vector<std::array<int, 2>>* givenInputCrossings_;
+  const CrossingPairs* givenInputCrossings_;
   std::vector<int> touched_;
   std::vector<char> isTouched_;
   // Per output vertex, the faces within two rings of it (crossings), once asked for.
@@ -204,7 +204,7 @@ class Cleaner {
 
 Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
                  const std::vector<long long>& line, std::vector<Where>& where,
-                 const SurfaceWalker& walker, const std::vector<std::array<int, 2>>* inputCrossings)
+                 const SurfaceWalker& walker, const CrossingPairs* inputCrossings)
     : out_(out),
       m_(out.mesh),
       input_(input),
@@ -361,10 +361,10 @@ void Cleaner::updateCrossings() {
           moved[outputAround_.faces[q]] = 1;
           faces.push_back(outputAround_.faces[q]);
         }
-    std::vector<std::array<int, 2>> kept;
+    CrossingPairs kept;
     for (const auto& pair : crossings_)
       if (!moved[pair[0]] && !moved[pair[1]]) kept.push_back(pair);
-    const std::vector<std::array<int, 2>> fresh = selfIntersectionsWith(m_, faces);
+    const CrossingPairs fresh = selfIntersectionsWith(m_, faces);
     crossings_.clear();
     std::merge(kept.begin(), kept.end(), fresh.begin(), fresh.end(),
                std::back_inserter(crossings_));
@@ -399,7 +399,7 @@ bool Cleaner::atInputCrossing(Eigen::Index f, InputCrossing kind) {
     inputCrossing_.assign(static_cast<std::size_t>(input_.F.rows()), kNone);
     const auto& start = inputAround_.start;
     const auto& at = inputAround_.faces;
-    std::vector<std::array<int, 2>> found;
+    CrossingPairs found;
     for (const auto& pair : crossingPairs(input_, givenInputCrossings_, found)) {
       const char mark = foldedTogether(pair[0], pair[1]) ? kFold : kSheets;
       for (int g : pair)
@@ -987,7 +987,7 @@ void Cleaner::relaxWhatIsLeft(const std::function<void()>& lastResort) {
   for (int attempt = 0; attempt < 3 && before > 0; ++attempt) {
     const Points keptV = m_.V;
     const std::vector<Where> keptWhere = where_;
-    const std::vector<std::array<int, 2>> keptCrossings = crossings_;
+    const CrossingPairs keptCrossings = crossings_;
     std::vector<char> relaxFace(out_.base.F.rows(), 0);
     for (Eigen::Index f : flagged_) relaxFace[f / perBase_] = 1;
     const double farBefore = farthest(relaxFace);
@@ -1043,8 +1043,7 @@ void Cleaner::run(const Progress& progress, const std::function<void()>& lastRes
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<Where>& where,
              const SurfaceWalker& walker, const Progress& progress,
-             const std::function<void()>& lastResort,
-             const std::vector<std::array<int, 2>>* inputCrossings) {
+             const std::function<void()>& lastResort, const CrossingPairs* inputCrossings) {
   Cleaner(out, input, free, line, where, walker, inputCrossings).run(progress, lastResort);
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "osdmra/base/progress.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/remesh/remesh.h"
 
@@ -32,6 +33,6 @@ void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free
              const std::vector<long long>& line, std::vector<SurfacePoint>& where,
              const SurfaceWalker& walker, const Progress& progress = {},
              const std::function<void()>& lastResort = {},
-             const std::vector<std::array<int, 2>>* inputCrossings = nullptr);
+             const CrossingPairs* inputCrossings = nullptr);
 
 }  // namespace osdmra::remeshing

@@ -55,13 +55,10 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
-// Crossing pairs of faces, as findSelfIntersections lists them.
-using Pairs = std::vector<std::array<int, 2>>;
-
 // Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
 // up (`lastResort` as in cleanUp()).
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
-                            const Pairs* inputCrossings, const SurfaceWalker& walker,
+                            const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
                             const remeshing::Features& features, const remeshing::Simplification& s,
                             const remeshing::BaseCharts& charts, int levels, remeshing::GridMap map,
                             const Progress& progress,
@@ -179,7 +176,7 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
 
 // Steps 1 to 3 (remesh()) with the simplification's stages relaxed vertex by vertex or
 // mesh-wide.
-Remeshing remeshedOver(const TriMesh& input, const Pairs* inputCrossings,
+Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings,
                        const FeatureChoice& choice, const RemeshOptions& options,
                        bool stagesPerVertex, const Progress& progress) {
   using namespace remeshing;
@@ -270,9 +267,9 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   // (RemeshOptions::baseWithoutNewCrossings, the default), found once for every
   // simplification and clean-up (three on the bunny: 3% of its remesh); otherwise none,
   // and the clean-up finds them if it needs them.
-  Pairs found;
+  CrossingPairs found;
   if (options.baseWithoutNewCrossings) found = crossingPairs(input);
-  const Pairs* crossings = options.baseWithoutNewCrossings ? &found : nullptr;
+  const CrossingPairs* crossings = options.baseWithoutNewCrossings ? &found : nullptr;
   const bool perVertexFirst = options.stages != StageRelaxation::meshWide;
   Remeshing best = remeshedOver(input, crossings, features, options, perVertexFirst, progress);
   if (options.stages != StageRelaxation::perVertexElseMeshWide) return best;

@@ -134,7 +134,7 @@ class Simplifier {
   void gatherNear(const Ring& r) const;
   Box boxOf(const std::array<int, 3>& t) const;
   void indexFaces();
-  void markInputCrossings(const TriMesh& m, const std::vector<std::array<int, 2>>* known);
+  void markInputCrossings(const TriMesh& m, const CrossingPairs* known);
   void commit(int v, const Plan& p);
   void markChanged(const Ring& ring);
   bool refusedAndUnchanged(int v) const;
@@ -610,10 +610,9 @@ Simplifier::Box Simplifier::boxOf(const std::array<int, 3>& t) const {
 // of an input face that crosses another may cross faces that hold one (the cow, the
 // ogre: refused, such removals left their bases a third larger than without the check,
 // and the knots where two sheets cross are the input's either way).
-void Simplifier::markInputCrossings(const TriMesh& m,
-                                    const std::vector<std::array<int, 2>>* known) {
+void Simplifier::markInputCrossings(const TriMesh& m, const CrossingPairs* known) {
   atInputCrossing_.assign(static_cast<std::size_t>(m.V.rows()), 0);
-  std::vector<std::array<int, 2>> found;
+  CrossingPairs found;
   for (const auto& pair : crossingPairs(m, known, found))
     for (int f : pair)
       for (int k = 0; k < 3; ++k) atInputCrossing_[static_cast<std::size_t>(m.F(f, k))] = 1;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "osdmra/base/progress.h"
+#include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/remesh/features.h"
@@ -128,7 +129,7 @@ struct SimplifyOptions {
   /// The input's crossing pairs (findSelfIntersections), where the caller has them
   /// already (remesh() finds them once for every simplification and clean-up); found
   /// here otherwise. Read under noNewCrossings only.
-  const std::vector<std::array<int, 2>>* inputCrossings = nullptr;
+  const CrossingPairs* inputCrossings = nullptr;
 };
 
 /// The smallest angle, in degrees, of a new face that SimplifyOptions::skinnyWhereFlat
