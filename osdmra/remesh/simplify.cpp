@@ -12,6 +12,7 @@
 #include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/quadric.h"
 #include "osdmra/geometry/self_intersection.h"
+#include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/distortion.h"
 #include "osdmra/remesh/removal.h"
 
@@ -78,6 +79,7 @@ class Simplifier {
     ownStage_.assign(n, 0);
     changedAt_.assign(n, 0);
     markTips(m, features.tip);
+    markLines(m, features);
     if (options.retriangulateByError) quadric_ = vertexQuadrics(m);
     smallestAngle_.resize(m.F.rows());
     inputFlat_.resize(m.F.rows());
@@ -105,6 +107,7 @@ class Simplifier {
     kCorner,
     kFeatureSide,
     kCurved,
+    kBulge,
     kRefusals
   };
   struct Candidate {
@@ -117,6 +120,8 @@ class Simplifier {
   bool ring(int v, Ring& r) const;
   bool isFeature(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   bool removable(int v, const Ring& r) const;
+  void markLines(const TriMesh& m, const Features& features);
+  bool lineBulges(int v, const Ring& r, int end) const;
   bool hasEdge(int a, int b) const;
   bool plan(int v, const Ring& around, Plan& p);
   bool tryTriangulation(int v, Plan& p, double& worst);
@@ -162,6 +167,9 @@ class Simplifier {
   std::vector<std::vector<int>> vertFaces_, facePoints_, inputFaces_;
   std::vector<Param> param_;
   std::unordered_set<std::uint64_t> features_;
+  // Per input vertex, its neighbours along the input's boundary and along its feature
+  // lines (markLines): the chain a base edge on a line stands for.
+  std::vector<std::vector<int>> alongBoundary_, alongFeature_;
   std::vector<char> corner_, fold_, removed_;
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
@@ -273,6 +281,56 @@ bool Simplifier::removable(int v, const Ring& r) const {
   return m >= 3 && !corner_[v] && (nf == 0 || nf == 2);
 }
 
+void Simplifier::markLines(const TriMesh& m, const Features& features) {
+  const int n = static_cast<int>(m.V.rows());
+  alongBoundary_.assign(n, {});
+  alongFeature_.assign(n, {});
+  const Connectivity c(m.F, n);
+  for (int h = 0; h < 3 * c.numFaces(); ++h)
+    if (c.twin(h) < 0) {
+      alongBoundary_[c.from(h)].push_back(c.to(h));
+      alongBoundary_[c.to(h)].push_back(c.from(h));
+    }
+  for (const auto& [a, b] : features.list) {
+    alongFeature_[a].push_back(b);
+    alongFeature_[b].push_back(a);
+  }
+}
+
+// Whether removing v, a vertex of a boundary or feature line (its ring's verts[0] and
+// verts[end] its neighbours on it), would leave a base edge standing for a chain of the
+// input's line that strays from the edge by over kMaxBulge of the edge's length. The
+// base face beside such an edge holds the chain's bulge: a round hole's half circle under
+// one edge left base faces whose surface is a crescent along the hole, over which a
+// uniform grid folds however the parameterisation is smoothed (odedstein's aeroplane
+// with 31 windows). 0.3 lets a round hole keep three base vertices (a third of a circle
+// strays by 0.289 of its chord) but not two arcs of it under one edge.
+bool Simplifier::lineBulges(int v, const Ring& r, int end) const {
+  constexpr double kMaxBulge = 0.3;
+  const std::vector<std::vector<int>>& along = r.boundary ? alongBoundary_ : alongFeature_;
+  const Vec3 a = V_.row(r.verts[0]).transpose(), b = V_.row(r.verts[end]).transpose();
+  const Vec3 ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const auto strays = [&](int x) {
+    const Vec3 ax = V_.row(x).transpose() - a;
+    return ax.cross(ab).squaredNorm() > kMaxBulge * kMaxBulge * length2 * length2;
+  };
+  if (strays(v)) return true;
+  // The removed vertices of the line on either side of v, up to the live vertices
+  // that end the chain (the removed ones are no corners: two neighbours each).
+  for (int first : along[v]) {
+    int previous = v, at = first;
+    for (std::size_t step = 0; removed_[at] && step < along.size(); ++step) {
+      if (strays(at)) return true;
+      if (along[at].size() != 2) break;
+      const int next = along[at][0] == previous ? along[at][1] : along[at][0];
+      previous = at;
+      at = next;
+    }
+  }
+  return false;
+}
+
 bool Simplifier::hasEdge(int a, int b) const {
   for (int f : vertFaces_[a])
     for (int x : faces_[f])
@@ -310,6 +368,10 @@ bool Simplifier::plan(int v, const Ring& around, Plan& p) {
   }
   std::vector<Vec3> points;
   for (int w : p.ring.verts) points.push_back(V_.row(w).transpose());
+  refusal_ = kBulge;
+  if (r.boundary ? lineBulges(v, r, m) : p.featureAt > 0 && lineBulges(v, r, p.featureAt))
+    return false;
+  refusal_ = kShape;
   p.flat = flattenRing(V_.row(v).transpose(), points, p.ring.boundary, p.featureAt);
   // A strongly curved one-ring (a cone tip, a saddle) flattens with much distortion:
   // keep such vertices while flatter ones remain. Folds of a scan go at any exponent.
@@ -922,7 +984,9 @@ std::string Simplifier::whyKept() {
       "they are corners or ends of feature lines, corners of boundaries, tips of the input "
       "(faces' angles summing to under 192 degrees), or have over 24 faces",
       "a feature line through them would keep one face on a side",
-      "their one-ring is too curved to flatten (a tip under 192 degrees, or a saddle)"};
+      "their one-ring is too curved to flatten (a tip under 192 degrees, or a saddle)",
+      "the boundary or feature line their removal would put under one base edge strays from "
+      "that edge by over 0.3 of its length"};
   std::string why = "no vertex can be removed: of the " + std::to_string(left) + " left,";
   bool first = true;
   for (int k = 0; k < kRefusals; ++k)

@@ -2,11 +2,14 @@
 // vertex's place on it (MAPS, Lee et al. 1998). Vertices go in rounds of independent
 // sets, least important first (small one-ring area and curvature); each removal is
 // certified bijective (removal.h) and bounded in distortion (distortion.h), else
-// refused; so is one that would make the mesh cross itself (noNewCrossings) or leave
+// refused; so is one that would make the mesh cross itself (noNewCrossings), leave
 // one face around the tip of a protrusion of the input holding more than half of the
 // tip's cone (the grid would sample the tip from that face's corner alone, and fold
-// there). The bounds relax in stages only when nothing can go under the current ones,
-// or, as an option, vertex by vertex for those passed over for more important ones.
+// there), or leave a base edge standing for a boundary or feature line of the input
+// that strays from it by over 0.3 of its length (the face beside it would cover a
+// crescent, over which the grid folds). The bounds relax in stages only when nothing can go under
+// the current ones, or, as an option, vertex by vertex for those passed over for more important
+// ones.
 #pragma once
 
 #include <array>
