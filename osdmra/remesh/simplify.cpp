@@ -303,8 +303,9 @@ void Simplifier::markLines(const TriMesh& m, const Features& features) {
 // base face beside such an edge holds the chain's bulge: a round hole's half circle under
 // one edge left base faces whose surface is a crescent along the hole, over which a
 // uniform grid folds however the parameterisation is smoothed (odedstein's aeroplane
-// with 31 windows). 0.3 lets a round hole keep three base vertices (a third of a circle
-// strays by 0.289 of its chord) but not two arcs of it under one edge.
+// with 31 windows). 0.3 lets a round hole keep three base vertices where its own
+// vertices let them be about evenly spaced (a third of a circle strays by 0.289 of its
+// chord; otherwise it keeps four), but never half of it under one edge.
 bool Simplifier::lineBulges(int v, const Ring& r, int end) const {
   constexpr double kMaxBulge = 0.3;
   const std::vector<std::vector<int>>& along = r.boundary ? alongBoundary_ : alongFeature_;
