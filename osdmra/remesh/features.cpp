@@ -209,6 +209,24 @@ std::vector<char> foldVertices(const TriMesh& m, const std::vector<char>& foldFa
 
 }  // namespace
 
+LineNeighbours lineNeighbours(const Connectivity& c,
+                              const std::vector<std::array<int, 2>>& featureEdges) {
+  LineNeighbours out;
+  out.boundary.resize(c.numVertices());
+  out.feature.resize(c.numVertices());
+  for (const auto& [a, b] : featureEdges) {
+    out.feature[a].push_back(b);
+    out.feature[b].push_back(a);
+  }
+  for (int e = 0; e < c.numEdges(); ++e)
+    if (c.isBoundaryEdge(e)) {
+      const auto [a, b] = c.edgeVertices(e);
+      out.boundary[a].push_back(b);
+      out.boundary[b].push_back(a);
+    }
+  return out;
+}
+
 Features detectFeatures(const TriMesh& m, double featureAngle, double boundarySpan,
                         double minLineLength) {
   const int n = static_cast<int>(m.V.rows());

@@ -8,6 +8,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "osdmra/mesh/connectivity.h"
 #include "osdmra/mesh/mesh.h"
 
 namespace osdmra::remeshing {
@@ -47,6 +48,15 @@ constexpr double kMaxTipAngle = 192.0;
 /// face of the size asked for, which could not follow them anyway).
 Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundarySpan = 0,
                         double minLineLength = 0);
+
+/// Every input vertex's neighbours along the input's lines: its boundary (the edges of
+/// one face, from `c`) and its feature lines (`featureEdges`, Features::list). The chains
+/// a base edge on a line stands for are walked through these (followLine).
+struct LineNeighbours {
+  std::vector<std::vector<int>> boundary, feature;
+};
+LineNeighbours lineNeighbours(const Connectivity& c,
+                              const std::vector<std::array<int, 2>>& featureEdges);
 
 /// The vertices of a line (`along[v]`: v's neighbours on it) from `from` through
 /// `next`, on through vertices with exactly two neighbours, up to one that `stops`,

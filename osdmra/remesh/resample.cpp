@@ -74,18 +74,9 @@ class Resampler {
     inputOf_.resize(base_.V.rows());
     for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
-    alongFeature_.resize(input.V.rows());
-    alongBoundary_.resize(input.V.rows());
-    for (const auto& [a, b] : inputFeatures) {
-      alongFeature_[a].push_back(b);
-      alongFeature_[b].push_back(a);
-    }
-    for (int e = 0; e < inputConn.numEdges(); ++e)
-      if (inputConn.isBoundaryEdge(e)) {
-        const auto [a, b] = inputConn.edgeVertices(e);
-        alongBoundary_[a].push_back(b);
-        alongBoundary_[b].push_back(a);
-      }
+    LineNeighbours along = lineNeighbours(inputConn, inputFeatures);
+    alongFeature_ = std::move(along.feature);
+    alongBoundary_ = std::move(along.boundary);
   }
 
   Resampled run(int levels, GridMap map, const Progress& progress);

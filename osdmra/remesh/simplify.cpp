@@ -79,7 +79,7 @@ class Simplifier {
     ownStage_.assign(n, 0);
     changedAt_.assign(n, 0);
     markTips(m, features.tip);
-    markLines(m, features);
+    along_ = lineNeighbours(Connectivity(m.F, static_cast<int>(m.V.rows())), features.list);
     if (options.retriangulateByError) quadric_ = vertexQuadrics(m);
     smallestAngle_.resize(m.F.rows());
     inputFlat_.resize(m.F.rows());
@@ -120,7 +120,6 @@ class Simplifier {
   bool ring(int v, Ring& r) const;
   bool isFeature(int a, int b) const { return features_.count(edgeKey(a, b)) != 0; }
   bool removable(int v, const Ring& r) const;
-  void markLines(const TriMesh& m, const Features& features);
   bool lineBulges(int v, const Ring& r, int end) const;
   bool hasEdge(int a, int b) const;
   bool plan(int v, const Ring& around, Plan& p);
@@ -168,8 +167,8 @@ class Simplifier {
   std::vector<Param> param_;
   std::unordered_set<std::uint64_t> features_;
   // Per input vertex, its neighbours along the input's boundary and along its feature
-  // lines (markLines): the chain a base edge on a line stands for.
-  std::vector<std::vector<int>> alongBoundary_, alongFeature_;
+  // lines: the chain a base edge on a line stands for (lineBulges).
+  LineNeighbours along_;
   std::vector<char> corner_, fold_, removed_;
   const std::vector<StageLimits>& stages_;
   std::size_t stage_ = 0;
@@ -281,22 +280,6 @@ bool Simplifier::removable(int v, const Ring& r) const {
   return m >= 3 && !corner_[v] && (nf == 0 || nf == 2);
 }
 
-void Simplifier::markLines(const TriMesh& m, const Features& features) {
-  const int n = static_cast<int>(m.V.rows());
-  alongBoundary_.assign(n, {});
-  alongFeature_.assign(n, {});
-  const Connectivity c(m.F, n);
-  for (int h = 0; h < 3 * c.numFaces(); ++h)
-    if (c.twin(h) < 0) {
-      alongBoundary_[c.from(h)].push_back(c.to(h));
-      alongBoundary_[c.to(h)].push_back(c.from(h));
-    }
-  for (const auto& [a, b] : features.list) {
-    alongFeature_[a].push_back(b);
-    alongFeature_[b].push_back(a);
-  }
-}
-
 // Whether removing v, a vertex of a boundary or feature line (its ring's verts[0] and
 // verts[end] its neighbours on it), would leave a base edge standing for a chain of the
 // input's line that strays from the edge by over kMaxBulge of the edge's length. The
@@ -308,7 +291,7 @@ void Simplifier::markLines(const TriMesh& m, const Features& features) {
 // chord; otherwise it keeps four), but never half of it under one edge.
 bool Simplifier::lineBulges(int v, const Ring& r, int end) const {
   constexpr double kMaxBulge = 0.3;
-  const std::vector<std::vector<int>>& along = r.boundary ? alongBoundary_ : alongFeature_;
+  const std::vector<std::vector<int>>& along = r.boundary ? along_.boundary : along_.feature;
   const Vec3 a = V_.row(r.verts[0]).transpose(), b = V_.row(r.verts[end]).transpose();
   const Vec3 ab = b - a;
   const double length2 = ab.squaredNorm();
