@@ -72,7 +72,7 @@ commands:
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
                  [--stages auto|vertex|mesh] [--retriangulation shape|error]
-                 [--skinny-where-flat F]
+                 [--skinny-where-flat F] [--cap-angle A]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -105,6 +105,10 @@ commands:
                                within F of its width from its plane (default 0:
                                never; lod --remesh --budget tries the whole
                                budget a second time with F = 0.1, none if 0);
+                               --cap-angle A flips a base edge opposite an
+                               angle over A degrees where the grid sampled
+                               over the two faces folds less so (default 90,
+                               0: no flips);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -1,5 +1,6 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
-// --max-faces, --smoothing-sweeps, --stages, --retriangulation, --skinny-where-flat)
+// --max-faces, --smoothing-sweeps, --stages, --retriangulation, --skinny-where-flat,
+// --cap-angle)
 // and those of the
 // distance it reports (--samples, --seed), read the same way by the tool and the
 // viewer.
@@ -19,7 +20,7 @@ namespace osdmra::cli {
 // all of them.
 inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
   own.insert({"base-faces", "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps",
-              "stages", "retriangulation", "skinny-where-flat"});
+              "stages", "retriangulation", "skinny-where-flat", "cap-angle"});
   return own;
 }
 
@@ -58,6 +59,7 @@ inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false
   // 0 (none) for every command: lod's budget search reads it for its second trial over
   // the whole budget instead, where it defaults to BudgetSearchOptions' fraction.
   o.skinnyWhereFlat = args.real("skinny-where-flat", 0.0, 0.0, 1.0);
+  o.capAngle = args.real("cap-angle", o.capAngle, 0.0, 180.0);
   return o;
 }
 

@@ -65,6 +65,8 @@ Json remeshJson(const RemeshReport& r) {
       .add("smoothing", Json::object()
                             .add("moves", r.result.smoothingMoves)
                             .add("refused", r.result.smoothingRefused))
+      .add("base_flips",
+           Json::object().add("made", r.result.baseFlips).add("refused", r.result.baseFlipsRefused))
       .add("grid_map", Json::object()
                            .add("used", r.result.gridMap)
                            .add("straightened_defects", r.result.straightenedDefects)

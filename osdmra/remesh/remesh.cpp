@@ -16,6 +16,7 @@
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/mesh/spatial_order.h"
+#include "osdmra/remesh/base_flips.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/cleanup.h"
 #include "osdmra/remesh/features.h"
@@ -195,11 +196,21 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
   out.featureEdges = static_cast<int>(features.list.size());
   out.featureEdgesDropped = static_cast<int>(choice.all().list.size() - features.list.size());
   out.tips = static_cast<int>(std::count(features.tip.begin(), features.tip.end(), 1));
-  out.base = s.base;
   out.simplificationRounds = s.rounds;
   out.simplificationStage = s.stage;
   out.baseSizeReason = s.stopReason;
   out.levels = levelsWithin(s.base.F.rows(), options.levels, options.maxFaces);
+  // Base edges flipped where the grid over a pair folds less so (base_flips.h).
+  if (options.capAngle > 0) {
+    BaseFlipOptions flips;
+    flips.capAngle = options.capAngle;
+    flips.levels = out.levels;
+    flips.input = &input;
+    const BaseFlipReport report = flipCaps(s, flips);
+    out.baseFlips = report.flips;
+    out.baseFlipsRefused = report.refused;
+  }
+  out.base = s.base;
 
   // Walks on the input (the clean-up's last stage) do not cross its feature lines.
   const SurfaceWalker walker(input, features.list);
