@@ -17,7 +17,9 @@ using remeshing::layFlat;
 using remeshing::minOf;
 using remeshing::Param;
 using remeshing::Simplification;
+using remeshing::traceToInput;
 using remeshing::Vec2;
+using remeshing::Vec3;
 
 // The image of input triangle t in base face f laid flat, if its corners all lie in f
 // (a base vertex counts as lying in each of its faces).
@@ -62,6 +64,20 @@ inline void expectBijection(const TriMesh& input, const Simplification& s, int i
     EXPECT_GT(cross2(image[1] - image[0], image[2] - image[0]), 0) << "input triangle " << t;
   }
   EXPECT_GT(checked, inside);
+}
+
+// Every removed input vertex's place on the base, traced back through the history,
+// lands on that vertex: the map and its inverse compose to the identity.
+inline void expectTracingBackIsTheIdentity(const TriMesh& input, const Simplification& s) {
+  for (int v = 0; v < input.V.rows(); ++v) {
+    if (s.baseOf[v] >= 0) continue;
+    const SurfacePoint at = traceToInput(s.history, s.params[v].face, s.params[v].bary);
+    ASSERT_GE(at.triangle, 0);
+    ASSERT_LT(at.triangle, input.F.rows());
+    Vec3 p = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) p += at.bary[i] * input.V.row(input.F(at.triangle, i)).transpose();
+    EXPECT_LT((p - input.V.row(v).transpose()).norm(), 1e-9) << "vertex " << v;
+  }
 }
 
 }  // namespace osdmra::test
