@@ -7,6 +7,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
 #include "osdmra/remesh/distortion.h"
@@ -18,29 +19,12 @@ namespace {
 
 using Box = Eigen::AlignedBox3d;
 
-double degrees(double radians) {
-  return radians * 180 / kPi;
-}
-
-// The angles of a planar triangle, degrees.
-std::array<double, 3> anglesOf(const Vec2& a, const Vec2& b, const Vec2& c) {
-  const auto at = [](const Vec2& p, const Vec2& q, const Vec2& r) {
-    const Vec2 u = q - p, v = r - p;
-    return degrees(std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v)));
-  };
-  return {at(a, b, c), at(b, c, a), at(c, a, b)};
-}
-
-double widest(const std::array<double, 3>& x, const std::array<double, 3>& y) {
-  return std::max(*std::max_element(x.begin(), x.end()), *std::max_element(y.begin(), y.end()));
-}
-
 // Twice the signed area of (a, b, c) over the product of two of its sides' lengths: the
 // sine of the angle at a, positive for a counter-clockwise triangle.
 double sineAt(const Vec2& a, const Vec2& b, const Vec2& c) {
   const Vec2 u = b - a, v = c - a;
   const double n = u.norm() * v.norm();
-  return n > 0 ? (u.x() * v.y() - u.y() * v.x()) / n : 0;
+  return n > 0 ? cross2(u, v) / n : 0;
 }
 
 // A pair of base faces about their shared edge (a, c): f1 = (a, c, b) and f2 = (c, a, d)
@@ -93,7 +77,8 @@ class Flipper {
   bool makesCrossing(const Quad& q) const;
   bool foldsLess(const Quad& q) const;
   int foldsOver(const Quad& q, const std::array<Vec2, 3>& face) const;
-  bool onInput(const Quad& q, const Vec2& at, Vec3& position, Vec3& normal) const;
+  bool onInput(const Quad& q, const std::vector<Vec2>& points, const Vec2& at, Vec3& position,
+               Vec3& normal) const;
   bool movePoints(const Quad& q, std::vector<std::pair<int, Param>>& moved) const;
   void commit(const Quad& q, const std::vector<std::pair<int, Param>>& moved);
 
@@ -165,10 +150,11 @@ bool Flipper::quadAbout(int f1, int k, int f2, Quad& q) const {
 
 // Whether the pair holds an angle over the cap bound that the flip makes smaller.
 bool Flipper::isCap(const Quad& q) const {
-  const double before = widest(anglesOf(q.pa, q.pc, q.pb), anglesOf(q.pc, q.pa, q.pd));
+  const double before =
+      std::max(largestAngle(q.pa, q.pc, q.pb), largestAngle(q.pc, q.pa, q.pd)) * 180 / kPi;
   if (before <= options_.capAngle) return false;
-  const double after = widest(anglesOf(q.pa, q.pd, q.pb), anglesOf(q.pc, q.pb, q.pd));
-  return after < before;
+  return std::max(largestAngle(q.pa, q.pd, q.pb), largestAngle(q.pc, q.pb, q.pd)) * 180 / kPi <
+         before;
 }
 
 // The flipped faces (a, d, b) and (c, b, d) counter-clockwise with a margin at every
@@ -208,13 +194,13 @@ bool Flipper::makesCrossing(const Quad& q) const {
   return false;
 }
 
-// The input point the exact map puts at flat point `at` of the pair (before the flip),
-// and the normal of the input face there.
-bool Flipper::onInput(const Quad& q, const Vec2& at, Vec3& position, Vec3& normal) const {
-  const std::vector<Vec2> points = {q.pa, q.pc, q.pb, q.pd};
-  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {1, 0, 3}};
+// The input point the exact map puts at flat point `at` of the pair (before the flip;
+// `points` its corners a, c, b, d laid flat), and the normal of the input face there.
+bool Flipper::onInput(const Quad& q, const std::vector<Vec2>& points, const Vec2& at,
+                      Vec3& position, Vec3& normal) const {
+  static const std::vector<std::array<int, 3>> kOldPair = {{0, 1, 2}, {1, 0, 3}};
   std::array<double, 3> bary;
-  const int t = locateInTriangles(at, points, triangles, bary);
+  const int t = locateInTriangles(at, points, kOldPair, bary);
   if (t < 0) return false;
   const int f = t == 0 ? q.f1 : q.f2;
   const std::array<int, 3> corners =
@@ -227,9 +213,7 @@ bool Flipper::onInput(const Quad& q, const Vec2& at, Vec3& position, Vec3& norma
   const TriMesh& in = *options_.input;
   position.setZero();
   for (int i = 0; i < 3; ++i) position += p.bary[i] * in.V.row(in.F(p.triangle, i)).transpose();
-  const Vec3 x = in.V.row(in.F(p.triangle, 0)), y = in.V.row(in.F(p.triangle, 1)),
-             z = in.V.row(in.F(p.triangle, 2));
-  normal = (y - x).cross(z - x);
+  normal = faceNormal(in, p.triangle);
   return true;
 }
 
@@ -237,13 +221,14 @@ bool Flipper::onInput(const Quad& q, const Vec2& at, Vec3& position, Vec3& norma
 // their corners, or have no area.
 int Flipper::foldsOver(const Quad& q, const std::array<Vec2, 3>& face) const {
   const int n = 1 << options_.levels;
+  const std::vector<Vec2> oldPair = {q.pa, q.pc, q.pb, q.pd};  // as onInput locates in
   std::vector<Vec3> position((n + 1) * (n + 2) / 2), normal(position.size());
   auto index = [&](int i, int j) { return j * (n + 1) - j * (j - 1) / 2 + i; };
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i + j <= n; ++i) {
       const Vec2 at =
           face[0] + (double(i) / n) * (face[1] - face[0]) + (double(j) / n) * (face[2] - face[0]);
-      if (!onInput(q, at, position[index(i, j)], normal[index(i, j)])) return 1 << 30;
+      if (!onInput(q, oldPair, at, position[index(i, j)], normal[index(i, j)])) return 1 << 30;
     }
   int folds = 0;
   auto check = [&](int u, int v, int w) {

@@ -58,4 +58,8 @@ inline double smallestAngle(const Vec2& a, const Vec2& b, const Vec2& c) {
   return std::min({cornerAngle(b, c, a), cornerAngle(c, a, b), cornerAngle(a, b, c)});
 }
 
+inline double largestAngle(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return std::max({cornerAngle(b, c, a), cornerAngle(c, a, b), cornerAngle(a, b, c)});
+}
+
 }  // namespace osdmra::remeshing
