@@ -69,6 +69,8 @@ Json remeshJson(const RemeshReport& r) {
            Json::object().add("made", r.result.baseFlips).add("refused", r.result.baseFlipsRefused))
       .add("grid_map", Json::object()
                            .add("used", r.result.gridMap)
+                           .add("straightened_folds", r.result.straightenedFolds)
+                           .add("exact_folds", r.result.exactFolds)
                            .add("straightened_defects", r.result.straightenedDefects)
                            .add("exact_defects", r.result.exactDefects))
       .add("clean_up", Json::object()

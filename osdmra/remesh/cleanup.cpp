@@ -21,6 +21,25 @@ namespace {
 // A point of the input: triangle and barycentric coordinates (triangle -1: none).
 using Where = SurfacePoint;
 
+// Output triangle `t` (corners, sampled at `where`) faces against the input triangles
+// under each of its corners, or has an area of at most `tinyArea`.
+bool folded(const TriMesh& m, const std::vector<Where>& where, const std::array<int, 3>& t,
+            const TriMesh& input, const Connectivity& inputConn, double tinyArea,
+            bool& degenerate) {
+  const Vec3 a = m.V.row(t[0]), b = m.V.row(t[1]), c = m.V.row(t[2]);
+  const Vec3 n = (b - a).cross(c - a);
+  degenerate = n.norm() <= tinyArea;
+  if (degenerate) return true;
+  for (int v : t)
+    if (facesAlong(input, inputConn, where[v], n)) return false;
+  return true;
+}
+
+// The area under which a triangle counts as of none, for an input of this diagonal.
+double tinyAreaFor(double diagonal) {
+  return 1e-14 * diagonal * diagonal;
+}
+
 // The disks of the clean-up's second stage solve for at most this many times the grid's
 // points in all. Over a small grid a disk of 16 rings is the whole surface: with
 // thousands of defects (a 3,072-face torus displaced until it crosses itself 11,532
@@ -214,7 +233,7 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       walker_(walker),
       bvh_(input),
       diag_(boundingBoxDiagonal(input.V)),
-      tinyArea_(1e-14 * diag_ * diag_),
+      tinyArea_(tinyAreaFor(diag_)),
       sampled_(out.mesh.V),
       rings_(out.mesh.F, static_cast<int>(out.mesh.V.rows())),
       inputRings_(input.F, static_cast<int>(input.V.rows())),
@@ -249,13 +268,7 @@ Vec3 Cleaner::reference(int v) const {
 // input point may lie on the other side, and on a coarse input, where interpolated
 // vertex normals can point away from the very face a sample lies in.
 bool Cleaner::badCorners(int i, int j, int k, bool& degenerate) const {
-  const Vec3 a = m_.V.row(i), b = m_.V.row(j), c = m_.V.row(k);
-  const Vec3 n = (b - a).cross(c - a);
-  degenerate = n.norm() <= tinyArea_;
-  if (degenerate) return true;
-  for (int v : {i, j, k})
-    if (facesAlong(input_, walker_.connectivity(), where_[v], n)) return false;
-  return true;
+  return folded(m_, where_, {i, j, k}, input_, walker_.connectivity(), tinyArea_, degenerate);
 }
 
 bool Cleaner::bad(Eigen::Index f, bool& degenerate) const {
@@ -1039,6 +1052,17 @@ void Cleaner::run(const Progress& progress, const std::function<void()>& lastRes
 }
 
 }  // namespace
+
+long long foldedTriangles(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
+                          const TriMesh& input, const Connectivity& inputConn) {
+  const double tiny = tinyAreaFor(boundingBoxDiagonal(input.V));
+  long long count = 0;
+  bool degenerate = false;
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    count += folded(mesh, where, {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)}, input, inputConn, tiny,
+                    degenerate);
+  return count;
+}
 
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,
              const std::vector<long long>& line, std::vector<Where>& where,

@@ -22,6 +22,12 @@
 
 namespace osdmra::remeshing {
 
+/// The triangles of `mesh` (M^J sampled from `input`, `where` its vertices' places on
+/// it) that cleanUp() repairs as flipped or of zero area: facing against the input
+/// triangles under each of their corners, or of no area. 0 where sampling folded nothing.
+long long foldedTriangles(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
+                          const TriMesh& input, const Connectivity& inputConn);
+
 /// Repairs out.mesh (M^J over out.base, sampled from `input`; `where` its vertices'
 /// places on the input, kept up to date; `free` and `line` as in resample.h) and sets
 /// the defect counts and the clean-up's own of `out`. `lastResort`, if set, is called

@@ -7,6 +7,7 @@
 #include <functional>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,31 +57,40 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
-// Steps 2 and 3 through one map (resample.h's GridMap): the grid sampled, then cleaned
-// up (`lastResort` as in cleanUp()).
-Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
-                            const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
-                            const remeshing::Features& features, const remeshing::Simplification& s,
-                            const remeshing::BaseCharts& charts, int levels, remeshing::GridMap map,
-                            const Progress& progress,
-                            const std::function<void()>& lastResort = {}) {
-  using namespace remeshing;
+// Step 2 through one map (resample.h's GridMap), and how many grid triangles it folds
+// (flipped or of no area, as the clean-up counts them).
+struct Sampling {
+  remeshing::GridMap map = remeshing::GridMap::straightened;
+  remeshing::Resampled grid;
+  long long folds = 0;
+};
+
+const char* nameOf(remeshing::GridMap map) {
+  return map == remeshing::GridMap::exact ? "exact" : "straightened";
+}
+
+// Step 3 on one map's grid (`lastResort` as in cleanUp()).
+Remeshing cleaned(const Remeshing& common, Sampling sampling, const TriMesh& input,
+                  const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
+                  const Progress& progress, const std::function<void()>& lastResort = {}) {
   Remeshing out = common;
-  Resampled grid =
-      resample(input, walker.connectivity(), features.list, s, charts, levels, map, progress);
+  out.gridMap = nameOf(sampling.map);
+  (sampling.map == remeshing::GridMap::exact ? out.exactFolds : out.straightenedFolds) =
+      sampling.folds;
+  remeshing::Resampled& grid = sampling.grid;
   out.mesh = std::move(grid.mesh);
-  cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort,
-          inputCrossings);
+  remeshing::cleanUp(out, input, grid.free, grid.line, grid.where, walker, progress, lastResort,
+                     inputCrossings);
   return out;
 }
 
-// The exact map's remeshing, started on a second core when the straightened map's
-// repairs leave defects (and only then: most inputs need one map, and most repairs
-// succeed; started as soon as there was anything to repair, it slowed the corpus's
-// runs whose repairs then came out clean), and abandoned through its progress callback
-// if the last resort leaves the straightened one clean after all. Its result is the one
-// a sequential run would get: the maps share nothing that changes.
-class ExactMapBeside {
+// The other map's remeshing, started on a second core when the first map's repairs
+// leave defects (and only then: most inputs need one map, and most repairs succeed;
+// started as soon as there was anything to repair, it slowed the corpus's runs whose
+// repairs then came out clean), and abandoned through its progress callback if the last
+// resort leaves the first one clean after all. Its result is the one a sequential run
+// would get: the maps share nothing that changes.
+class OtherMapBeside {
  public:
   template <class Run>
   void start(Run run) {
@@ -93,7 +103,7 @@ class ExactMapBeside {
   }
   bool started() const { return result_.valid(); }
   Remeshing get() { return result_.get(); }
-  ~ExactMapBeside() {
+  ~OtherMapBeside() {
     abandon_ = true;
     if (!result_.valid()) return;
     try {
@@ -175,6 +185,69 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
   return t;
 }
 
+// Steps 2 and 3 (remesh()): the grid sampled through the map that folds it least, then
+// cleaned up, and through the other map too where the clean-up leaves defects.
+Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
+                            const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
+                            const remeshing::Features& features, const remeshing::Simplification& s,
+                            const remeshing::BaseCharts& charts, const Progress& progress) {
+  using namespace remeshing;
+  // Step 2 through the straightened map, and where its grid folds, through the exact
+  // inverse of the removals too; step 3 on the exact map's grid where that folds none,
+  // so that the clean-up has nothing to unfold, and on the straightened one otherwise.
+  // Each map is a bijection, and neither folds less everywhere: the straightened map on
+  // dense scans (the bunny over 600 base faces at J = 5: 51 grid triangles folded
+  // against 102), the exact one on scans whose triangles are large against the grid's
+  // (spot over 150 at J = 4: 4 against 0; the lion over 300 at J = 5: 12 against 0) and on
+  // decimated inputs (the camel head decimated to 3,000 faces: 162 flipped triangles
+  // and 265 crossing pairs left through the straightened map after the clean-up, none
+  // through the exact one). The exact map samples less evenly (its pieces are the
+  // removals' retriangulations, not the input's triangles): cleaning up whichever grid
+  // folds less made the shared corpus's remeshes farther from their scans (RMS 1.021x,
+  // Hausdorff 1.041x) than cleaning up the exact one only where it folds none (1.012x,
+  // 1.008x), for the same 15 runs of 96 spared the clean-up (docs/REMESH.md).
+  auto sample = [&](GridMap map, const Progress& p) {
+    Sampling sampling{map, resample(input, walker.connectivity(), features.list, s, charts,
+                                    common.levels, map, p)};
+    sampling.folds =
+        foldedTriangles(sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
+    return sampling;
+  };
+  Remeshing out = common;
+  Sampling first = sample(GridMap::straightened, progress);
+  out.straightenedFolds = first.folds;
+  std::optional<Sampling> second;
+  if (first.folds > 0) {
+    second = sample(GridMap::exact, progress);
+    out.exactFolds = second->folds;
+    if (second->folds == 0) std::swap(first, *second);
+  }
+  // Where the clean-up leaves defects, the other map's grid is cleaned up too, and the
+  // one with fewer defects left kept.
+  const GridMap otherMap = first.map == GridMap::exact ? GridMap::straightened : GridMap::exact;
+  auto cleanedOther = [&](const Progress& p) {
+    return cleaned(out, second ? std::move(*second) : sample(otherMap, p), input, inputCrossings,
+                   walker, p);
+  };
+  const GridMap firstMap = first.map;
+  OtherMapBeside beside;
+  Remeshing best = cleaned(out, std::move(first), input, inputCrossings, walker, progress,
+                           [&] { beside.start(cleanedOther); });
+  const long long firstLeft = defectsLeft(best);
+  long long otherLeft = -1;
+  if (firstLeft > 0) {
+    Remeshing other = beside.started() ? beside.get() : cleanedOther(progress);
+    otherLeft = defectsLeft(other);
+    best.straightenedFolds = other.straightenedFolds;  // the other knows both
+    best.exactFolds = other.exactFolds;
+    if (otherLeft < firstLeft) best = std::move(other);
+  }
+  const bool straightenedFirst = firstMap == GridMap::straightened;
+  best.straightenedDefects = straightenedFirst ? firstLeft : otherLeft;
+  best.exactDefects = straightenedFirst ? otherLeft : firstLeft;
+  return best;
+}
+
 // Steps 1 to 3 (remesh()) with the simplification's stages relaxed vertex by vertex or
 // mesh-wide.
 Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings,
@@ -226,34 +299,7 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
     out.smoothingMoves = report.moves;
     out.smoothingRefused = report.refused;
   }
-  // Steps 2 and 3 through the straightened map, and where that leaves defects through
-  // the exact inverse of the removals too; the one with fewer defects left is kept. Each
-  // is a bijection, and neither folds less everywhere: the straightened map on dense
-  // scans (the bunny over 600 base faces at J = 5: 2 sampled folds against 13), the
-  // exact one on decimated inputs (the lion over 300: 61 against 4; the camel head
-  // decimated to 3,000 faces: 162 flipped triangles and 265 crossing pairs left through
-  // the straightened map, none through the exact one).
-  auto exactMap = [&](const Progress& p) {
-    return sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, out.levels,
-                             GridMap::exact, p);
-  };
-  ExactMapBeside beside;
-  Remeshing best =
-      sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, out.levels,
-                        GridMap::straightened, progress, [&] { beside.start(exactMap); });
-  const long long straightenedLeft = defectsLeft(best);
-  long long exactLeft = -1;
-  if (straightenedLeft > 0) {
-    Remeshing exact = beside.started() ? beside.get() : exactMap(progress);
-    exactLeft = defectsLeft(exact);
-    if (exactLeft < straightenedLeft) {
-      best = std::move(exact);
-      best.gridMap = "exact";
-    }
-  }
-  best.straightenedDefects = straightenedLeft;
-  best.exactDefects = exactLeft;
-  return best;
+  return sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, progress);
 }
 
 }  // namespace

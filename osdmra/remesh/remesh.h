@@ -19,7 +19,9 @@
 //    map, within the same bounds, so that the grid samples the surface evenly.
 // 4. Resampling (resample.h): each base face split J times, every grid point placed on
 //    the input through the parameterisation made affine on each input triangle between
-//    its corners' places (charts.h): the map whose distortion step 2 bounded.
+//    its corners' places (charts.h): the map whose distortion step 2 bounded. Where
+//    that grid folds a triangle, the grid through the exact inverse of the removals is
+//    sampled too, and kept where it folds none.
 // 5. Clean-up (cleanup.h), a safety net for what sampling still folds; remesh()
 //    reports how much of it ran.
 //
@@ -155,12 +157,16 @@ struct Remeshing {
   int smoothingMoves = 0, smoothingRefused = 0;
   /// Base edges flipped out of caps, and caps left (base_flips.h).
   int baseFlips = 0, baseFlipsRefused = 0;
-  /// The map the grid was sampled through (resample.h's GridMap): "straightened", or
-  /// "exact" where that one left fewer defects after the clean-up; and the defects
-  /// (flipped, zero-area, crossing pairs) each left (-1: not tried, as the
-  /// straightened map left none).
+  /// The map the grid was sampled through (resample.h's GridMap): the straightened
+  /// one, or where that folds grid triangles and the exact one folds none, the exact
+  /// one; or the other where the first one's clean-up left defects and the other's
+  /// fewer. The grid triangles each folded as sampled (flipped or of zero area, before
+  /// the clean-up; -1: not sampled), and the defects (flipped, zero-area, crossing
+  /// pairs) each left after the clean-up (-1: not cleaned up, as the first map's clean-up
+  /// left none).
   std::string gridMap = "straightened";
-  long long straightenedDefects = 0, exactDefects = -1;
+  long long straightenedFolds = 0, exactFolds = -1;
+  long long straightenedDefects = -1, exactDefects = -1;
   /// How much the clean-up ran: flipped and zero-area triangles it found, points it
   /// moved, base faces it relaxed as a whole. 0, 0, 0 when sampling folded nothing.
   int cleanupDefectsBefore = 0, cleanupMovedPoints = 0, cleanupRelaxedFaces = 0;

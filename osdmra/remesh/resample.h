@@ -42,7 +42,9 @@ struct Resampled {
 
 /// The map that takes a grid point from its base face to the input. Both are
 /// bijections; which one samples with fewer folds depends on the input (remesh()
-/// tries the exact one where the straightened one leaves defects).
+/// samples the exact one where the straightened one folds, and keeps it where it folds
+/// nothing; and cleans up the other map's grid too where the first one's clean-up leaves
+/// defects).
 enum class GridMap {
   /// The parameterisation made straight on every input triangle: affine on each, with
   /// the distortion the simplification bounded. Best where input triangles are small

@@ -319,10 +319,11 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   // The map kept left nothing. Since the parameterisation is smoothed (smoothing.h) the
   // straightened map leaves 14-21 defects on this noisy torus at J = 4 (none before), and
   // the exact inverse, which the smoothing does not change, is kept instead.
-  EXPECT_TRUE(r.out.find("\"grid_map\": {\"used\": \"straightened\", \"straightened_defects\": "
-                         "0, \"exact_defects\": -1}") != std::string::npos ||
-              (r.out.find("\"used\": \"exact\"") != std::string::npos &&
-               r.out.find("\"exact_defects\": 0}") != std::string::npos))
+  EXPECT_TRUE(
+      (r.out.find("\"grid_map\": {\"used\": \"straightened\", ") != std::string::npos &&
+       r.out.find("\"straightened_defects\": 0, \"exact_defects\": -1}") != std::string::npos) ||
+      (r.out.find("\"used\": \"exact\"") != std::string::npos &&
+       r.out.find("\"exact_defects\": 0}") != std::string::npos))
       << r.out;
   // The stages relaxed vertex by vertex (the default, --stages auto) left nothing here
   // either, so that remesh was kept and the mesh-wide one never made.
@@ -340,8 +341,14 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(r.out.find("\"smoothing\": {\"moves\": "), std::string::npos) << r.out;
   EXPECT_NE(unsmoothed.out.find("\"smoothing\": {\"moves\": 0, \"refused\": 0}"), std::string::npos)
       << unsmoothed.out;
+  // The JSON says which map the grid was sampled through, how many grid triangles each
+  // folded as sampled, and what each left after the clean-up (-1: not sampled, not
+  // cleaned up).
   EXPECT_NE(unsmoothed.out.find("\"grid_map\": {\"used\": \"straightened\", "
-                                "\"straightened_defects\": 0, \"exact_defects\": -1}"),
+                                "\"straightened_folds\": "),
+            std::string::npos)
+      << unsmoothed.out;
+  EXPECT_NE(unsmoothed.out.find("\"straightened_defects\": 0, \"exact_defects\": -1}"),
             std::string::npos)
       << unsmoothed.out;
   // An option out of its range is refused, naming the option, and nothing is written.

@@ -45,6 +45,17 @@ Remeshing resampled(const Sampled& x) {
   return out;
 }
 
+// A free grid point dragged across one of its neighbours, half an edge beyond it (its
+// place on the input taken to be the neighbour's): a fold made on purpose.
+void dragAcrossNeighbour(Sampled& x, Remeshing& out) {
+  const VertexRings rings(out.mesh.F, static_cast<int>(out.mesh.V.rows()));
+  int v = static_cast<int>(out.base.V.rows());
+  while (!x.grid.free[v]) ++v;
+  const int w = rings.ring(v)[0];
+  out.mesh.V.row(v) = out.mesh.V.row(w) + 0.5 * (out.mesh.V.row(w) - out.mesh.V.row(v));
+  x.grid.where[v] = x.grid.where[w];
+}
+
 }  // namespace
 
 TEST(Cleanup, MovesNothingOnACleanSampling) {
@@ -61,19 +72,45 @@ TEST(Cleanup, RepairsAFoldAndSaysSo) {
   Sampled x = sampledSphere();
   const SurfaceWalker walker(x.input, x.features.list);
   Remeshing out = resampled(x);
-  // A free grid point dragged across one of its neighbours, half an edge beyond it.
-  const VertexRings rings(out.mesh.F, static_cast<int>(out.mesh.V.rows()));
-  int v = static_cast<int>(out.base.V.rows());
-  while (!x.grid.free[v]) ++v;
-  const int w = rings.ring(v)[0];
-  out.mesh.V.row(v) = out.mesh.V.row(w) + 0.5 * (out.mesh.V.row(w) - out.mesh.V.row(v));
-  x.grid.where[v] = x.grid.where[w];
+  dragAcrossNeighbour(x, out);
   cleanUp(out, x.input, x.grid.free, x.grid.line, x.grid.where, walker);
   EXPECT_GT(out.cleanupDefectsBefore, 0);
   EXPECT_GT(out.cleanupMovedPoints, 0);
   EXPECT_EQ(out.flippedTriangles, 0);
   EXPECT_EQ(out.degenerateTriangles, 0);
   EXPECT_EQ(out.selfIntersections, 0);
+}
+
+// foldedTriangles() counts what the clean-up starts from, as it counts it (remesh()
+// chooses the grid to clean up by it): none on a clean sampling; on the fold made above,
+// exactly the clean-up's defects before; a grid triangle turned over (two corners
+// swapped), one; a grid point moved onto its neighbour, the triangles they share, which
+// have no area.
+TEST(Cleanup, CountsTheFoldsItStartsFrom) {
+  Sampled x = sampledSphere();
+  const SurfaceWalker walker(x.input, x.features.list);
+  const Connectivity& conn = walker.connectivity();
+  EXPECT_EQ(foldedTriangles(x.grid.mesh, x.grid.where, x.input, conn), 0);
+
+  TriMesh turned = x.grid.mesh;
+  std::swap(turned.F(5, 1), turned.F(5, 2));
+  EXPECT_EQ(foldedTriangles(turned, x.grid.where, x.input, conn), 1);
+
+  TriMesh pinched = x.grid.mesh;
+  const int a = pinched.F(7, 0), b = pinched.F(7, 1);
+  pinched.V.row(b) = pinched.V.row(a);
+  int shared = 0;  // the faces with both a and b as corners
+  for (Eigen::Index f = 0; f < pinched.F.rows(); ++f)
+    shared += (pinched.F.row(f).array() == a).any() && (pinched.F.row(f).array() == b).any();
+  EXPECT_EQ(shared, 2);
+  EXPECT_GE(foldedTriangles(pinched, x.grid.where, x.input, conn), shared);
+
+  Remeshing out = resampled(x);
+  dragAcrossNeighbour(x, out);
+  const long long folds = foldedTriangles(out.mesh, x.grid.where, x.input, conn);
+  EXPECT_GT(folds, 0);
+  cleanUp(out, x.input, x.grid.free, x.grid.line, x.grid.where, walker);
+  EXPECT_EQ(out.cleanupDefectsBefore, folds);
 }
 
 // The repairs say how far they are (the callback is also how remesh() abandons a clean-up

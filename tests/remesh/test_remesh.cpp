@@ -509,3 +509,45 @@ TEST(Remesh, RejectsAnInvalidMeshNamingTheElement) {
     EXPECT_NE(std::string(e.what()).find("vertex 12"), std::string::npos) << e.what();
   }
 }
+
+// The grid is sampled through the straightened map (resample.h) and, where that folds
+// grid triangles, through the exact inverse of the removals too; where the exact one
+// folds none, its grid is the one cleaned up, and the clean-up has nothing to unfold: a
+// cylinder (Loop-subdivided three times, displaced by a hundredth) over 20 base faces at
+// J = 3, whose straightened grid folds 11 triangles. Where both fold (a torus, twice
+// subdivided, displaced by a fiftieth: 4 and 1), the straightened grid is cleaned up, as
+// the exact map samples less evenly; where the straightened one folds none, the exact
+// one is not sampled. Whichever grid is cleaned up, the clean-up starts from the folds
+// counted for it.
+TEST(Remesh, SamplesThroughTheExactMapWhereItFoldsNothing) {
+  RemeshOptions o;
+  o.baseFaces = 20;
+  o.levels = 3;
+  auto startsFromItsFolds = [](const Remeshing& r) {
+    EXPECT_EQ(r.cleanupDefectsBefore, r.gridMap == "exact" ? r.exactFolds : r.straightenedFolds);
+  };
+  const Remeshing cylinder = remesh(subdivide(shapes::cylinder(), 3, Scheme::Loop, 0.01, 3), o);
+  EXPECT_GT(cylinder.straightenedFolds, 0);
+  EXPECT_EQ(cylinder.exactFolds, 0);
+  EXPECT_EQ(cylinder.gridMap, "exact");
+  EXPECT_EQ(cylinder.cleanupMovedPoints, 0);
+  EXPECT_EQ(cylinder.straightenedDefects, -1);  // never cleaned up
+  EXPECT_EQ(cylinder.exactDefects, 0);
+  EXPECT_EQ(cylinder.flippedTriangles + cylinder.degenerateTriangles + cylinder.selfIntersections,
+            0);
+  validate(cylinder.mesh, "remeshed");
+  startsFromItsFolds(cylinder);
+
+  const Remeshing torus = remesh(subdivide(shapes::torus(), 2, Scheme::Loop, 0.02, 7), o);
+  EXPECT_GT(torus.exactFolds, 0);
+  EXPECT_GT(torus.straightenedFolds, torus.exactFolds);
+  EXPECT_EQ(torus.gridMap, "straightened");
+  EXPECT_GT(torus.cleanupMovedPoints, 0);
+  startsFromItsFolds(torus);
+
+  const Remeshing smooth = remesh(smoothInput(shapes::icosahedron(), 4, 7), o);
+  EXPECT_EQ(smooth.straightenedFolds, 0);
+  EXPECT_EQ(smooth.exactFolds, -1);
+  EXPECT_EQ(smooth.gridMap, "straightened");
+  startsFromItsFolds(smooth);
+}
