@@ -185,8 +185,9 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
   return t;
 }
 
-// Steps 2 and 3 (remesh()): the grid sampled through the map that folds it least, then
-// cleaned up, and through the other map too where the clean-up leaves defects.
+// Steps 2 and 3 (remesh()): the grid sampled through the straightened map, or through
+// the exact one where only that one folds nothing, then cleaned up; and through the other
+// map too where the clean-up leaves defects.
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
                             const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
                             const remeshing::Features& features, const remeshing::Simplification& s,
