@@ -22,7 +22,7 @@ std::vector<char> findFoldFaces(const TriMesh& m, const std::vector<Vec3>& faceN
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
     Vec3 r = Vec3::Zero();
     for (int k = 0; k < 3; ++k) r += vertexNormals.row(m.F(f, k)).transpose();
-    foldFace[f] = faceNormals[f].dot(r) <= 0;
+    foldFace[f] = facesAgainst(faceNormals[f], r);
   }
   return foldFace;
 }
@@ -208,6 +208,17 @@ std::vector<char> foldVertices(const TriMesh& m, const std::vector<char>& foldFa
 }
 
 }  // namespace
+
+bool facesAgainst(const Vec3& faceNormal, const Vec3& cornerNormals) {
+  return faceNormal.dot(cornerNormals) <= 0;
+}
+
+std::vector<char> foldCorners(const TriMesh& m) {
+  std::vector<Vec3> faceNormals(m.F.rows());
+  for (Eigen::Index f = 0; f < m.F.rows(); ++f) faceNormals[f] = faceNormal(m, f);
+  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
+  return foldVertices(m, findFoldFaces(m, faceNormals), findTips(m, c));
+}
 
 LineNeighbours lineNeighbours(const Connectivity& c,
                               const std::vector<std::array<int, 2>>& featureEdges) {

@@ -49,6 +49,13 @@ constexpr double kMaxTipAngle = 192.0;
 Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundarySpan = 0,
                         double minLineLength = 0);
 
+/// Whether a face of normal `faceNormal` is a fold: facing against `cornerNormals`, the
+/// sum of its corners' area-weighted normals (vertexNormalSums).
+bool facesAgainst(const Eigen::Vector3d& faceNormal, const Eigen::Vector3d& cornerNormals);
+
+/// Features::fold of detectFeatures(), alone.
+std::vector<char> foldCorners(const TriMesh& mesh);
+
 /// Every input vertex's neighbours along the input's lines: its boundary (the edges of
 /// one face, from `c`) and its feature lines (`featureEdges`, Features::list). The chains
 /// a base edge on a line stands for are walked through these (followLine).

@@ -3,7 +3,8 @@
 // remesh(), reads as the algorithm; each stage has its own file and tests:
 //
 // 0. The input renumbered along space (mesh/spatial_order.h): faster, and the result
-//    the same for every numbering of the same surface.
+//    the same for every numbering of the same surface; its folds taken out (unfold.h),
+//    each fold's corners moved a short way on the surface.
 // 1. Features (features.h): feature lines, corners of lines and boundaries, tips of
 //    protrusions, folds.
 // 2. Simplification with a parameterisation (simplify.h): vertices removed in rounds
@@ -33,6 +34,7 @@
 
 #include "osdmra/base/progress.h"
 #include "osdmra/mesh/mesh.h"
+#include "osdmra/remesh/unfold.h"
 
 namespace osdmra {
 
@@ -128,6 +130,9 @@ struct RemeshOptions {
   /// 0.0160% -> 0.0056% over 300 faces), one fewer run with defects, 22 of 96 rows
   /// changed, RMS 0.977x and Hausdorff 0.982x.
   double capAngle = 90;
+  /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
+  /// moved a short way on the surface where that leaves fewer folds.
+  bool unfoldInput = true;
 };
 
 struct Remeshing {
@@ -135,13 +140,15 @@ struct Remeshing {
   /// Rounds of splitting made: RemeshOptions::levels, or fewer under maxFaces.
   int levels = 0;
   /// The base mesh M^0, the first vertices of `mesh`: input vertices, but for those the
-  /// clean-up moved (to another point of the input).
+  /// unfolding or the clean-up moved (to another point of the input).
   TriMesh base;
   int featureEdges = 0;  ///< input edges taken as features
   /// Feature edges left out: lines on their own shorter than a base edge, dropped where
   /// the base would otherwise have more than 10% more faces than asked (features.h).
   int featureEdgesDropped = 0;
   int tips = 0;  ///< input vertices kept as tips of protrusions (features.h)
+  /// What taking the input's folds out did (unfold.h; RemeshOptions::unfoldInput).
+  remeshing::UnfoldReport unfold;
   /// Why the base has more faces than asked (empty when it has not).
   std::string baseSizeReason;
   /// Rounds of the simplification, and the last of its stages (simplify.h's kStages)

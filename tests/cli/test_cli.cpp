@@ -311,10 +311,11 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   const Result r = run("remesh " + path("t3.obj") +
                        " --samples 2000 --base-faces 100 --levels 4 --json -o " + path("r.ply"));
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* key : {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
-                          "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
-                          "\"degenerate_triangles\": 0", "\"self_intersections\": 0",
-                          "\"warnings\": []", "\"feature_edges_dropped\": 0"})
+  for (const char* key :
+       {"\"base_faces\"", "\"rms_relative\"", "\"hausdorff_relative\"",
+        "\"unreferenced_vertices_dropped\": 1", "\"flipped_triangles\": 0",
+        "\"degenerate_triangles\": 0", "\"self_intersections\": 0", "\"warnings\": []",
+        "\"feature_edges_dropped\": 0", "\"input_folds\": {\"corners\": "})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
   // The map kept left nothing. Since the parameterisation is smoothed (smoothing.h) the
   // straightened map leaves 14-21 defects on this noisy torus at J = 4 (none before), and
@@ -464,20 +465,21 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(badFraction.err.find("skinny-where-flat"), std::string::npos) << badFraction.err;
   // Without --levels too, each base gets as many levels as keep its remeshing within
   // --max-faces (2^19 by default, the remesher's 5 levels over 300 faces; 5 over 50),
-  // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 44
-  // faces the torus keeps for the 12 asked (12 * 4^4 would fit; the remesher's own
-  // defaults keep 48, lod's stages per vertex and retriangulation by error 44).
+  // counted on the base the remesher made: within 3,200, 3 over 50, and 3 over the 30
+  // faces the torus keeps for the 12 asked (12 * 4^4 would fit; lod's stages per vertex
+  // and retriangulation by error keep 30 since the input's folds are taken out first,
+  // unfold.h: 44 before).
   const Result levels = run("lod " + path("t3.obj") + " --remesh --budget 200 --max-faces 3200 " +
                             "--samples 500 --json -o " + path("l.obj"));
   ASSERT_EQ(levels.status, 0) << levels.err;
   EXPECT_NE(levels.out.find("{\"base_faces_asked\": 50, \"base_faces\": 50, \"levels\": 3,"),
             std::string::npos)
       << levels.out;
-  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 12, \"base_faces\": 44, \"levels\": 3,"),
+  EXPECT_NE(levels.out.find("{\"base_faces_asked\": 12, \"base_faces\": 30, \"levels\": 3,"),
             std::string::npos)
       << levels.out;
   // A torus cannot be remeshed over the 8 or 4 faces a budget of 8 asks for: the
-  // level of detail is the base the remesher made (the same 44 faces for either, the
+  // level of detail is the base the remesher made (the same faces for either, the
   // larger ask kept on the tie), over the budget, and a warning says why.
   const Result tiny = run("lod " + path("t3.obj") +
                           " --remesh --levels 1 --budget 8 --samples 500 -o " + path("l.obj"));
