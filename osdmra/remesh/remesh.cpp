@@ -322,8 +322,8 @@ Remeshing remesh(const TriMesh& given, const RemeshOptions& options, const Progr
   // the work, and moved single rows of docs/REMESH.md's table either way).
   TriMesh input = inSpatialOrder(given);
   // The input's folds taken out (unfold.h): no grid follows a pleat's layers. Over the
-  // 280 runs of docs/REMESH.md's four tables (2026-11-30), runs with defects 34 -> 30
-  // and the camel head's J = 5 remeshes spared the clean-up.
+  // 280 runs of docs/REMESH.md's four tables (2026-11-30), runs with defects 34 -> 30,
+  // and the camel head's J = 5 remeshes over 300 and 600 faces spared the clean-up.
   remeshing::UnfoldReport unfolded;
   if (options.unfoldInput) unfolded = remeshing::unfoldInput(input);
   const FeatureChoice features(input, options);
