@@ -213,10 +213,9 @@ bool facesAgainst(const Vec3& faceNormal, const Vec3& cornerNormals) {
   return faceNormal.dot(cornerNormals) <= 0;
 }
 
-std::vector<char> foldCorners(const TriMesh& m) {
+std::vector<char> foldCorners(const TriMesh& m, const Connectivity& c) {
   std::vector<Vec3> faceNormals(m.F.rows());
   for (Eigen::Index f = 0; f < m.F.rows(); ++f) faceNormals[f] = faceNormal(m, f);
-  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
   return foldVertices(m, findFoldFaces(m, faceNormals), findTips(m, c));
 }
 

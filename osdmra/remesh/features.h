@@ -53,8 +53,8 @@ Features detectFeatures(const TriMesh& mesh, double featureAngle, double boundar
 /// sum of its corners' area-weighted normals (vertexNormalSums).
 bool facesAgainst(const Eigen::Vector3d& faceNormal, const Eigen::Vector3d& cornerNormals);
 
-/// Features::fold of detectFeatures(), alone.
-std::vector<char> foldCorners(const TriMesh& mesh);
+/// Features::fold of detectFeatures(), alone (`c`: the mesh's connectivity).
+std::vector<char> foldCorners(const TriMesh& mesh, const Connectivity& c);
 
 /// Every input vertex's neighbours along the input's lines: its boundary (the edges of
 /// one face, from `c`) and its feature lines (`featureEdges`, Features::list). The chains

@@ -114,10 +114,11 @@ bool unfoldCorner(TriMesh& m, const Connectivity& c, int v, const TriangleBvh& g
 
 UnfoldReport unfoldInput(TriMesh& m, int maxRounds) {
   UnfoldReport r;
-  std::vector<char> fold = foldCorners(m);
+  // The moves keep the connectivity: one for every round.
+  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
+  std::vector<char> fold = foldCorners(m, c);
   r.foldCorners = r.foldCornersLeft = count(fold);
   if (r.foldCorners == 0) return r;
-  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
   const TriangleBvh given(m);  // holds its own copy of the corners: the surface as given
   const Points was = m.V;
   for (int round = 0; round < maxRounds; ++round) {
@@ -126,9 +127,9 @@ UnfoldReport unfoldInput(TriMesh& m, int maxRounds) {
       if (fold[v] && !c.isBoundaryVertex(v) && c.isManifoldVertex(v) && c.valence(v) >= 3)
         moved = unfoldCorner(m, c, v, given) || moved;
     if (!moved) break;
-    fold = foldCorners(m);
+    fold = foldCorners(m, c);
   }
-  r.foldCornersLeft = count(foldCorners(m));
+  r.foldCornersLeft = count(fold);  // `fold` is of the mesh as the last round left it
   const double diagonal = boundingBoxDiagonal(was);
   for (Eigen::Index v = 0; v < m.V.rows(); ++v)
     if (m.V.row(v) != was.row(v)) {

@@ -26,7 +26,7 @@ TriMesh turnedOverSliver(double top) {
 }
 
 int folds(const TriMesh& m) {
-  const std::vector<char> corners = foldCorners(m);
+  const std::vector<char> corners = foldCorners(m, Connectivity(m.F, static_cast<int>(m.V.rows())));
   return static_cast<int>(std::count(corners.begin(), corners.end(), 1));
 }
 
