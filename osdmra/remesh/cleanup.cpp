@@ -13,6 +13,7 @@
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/mesh/connectivity.h"
 #include "osdmra/remesh/planar.h"
+#include "osdmra/remesh/untangle.h"
 
 namespace osdmra::remeshing {
 
@@ -46,6 +47,23 @@ double tinyAreaFor(double diagonal) {
 // times, over 20 base faces at J = 4) each disk was a solve over the whole surface,
 // defect after defect. Over the scans of docs/REMESH.md the disks stay below it.
 constexpr long long kDiskBudget = 64;
+
+// The disks of at most this many rings whose flattening is untangled where Tutte's
+// folds, in at most this many rounds (embedInPlane()). A larger disk that folds in the
+// plane is mostly one whose boundary overlaps itself there, and untangling it is in
+// vain: on the decimated knight over 300 faces at J = 5, thousands of them went through
+// every round for the same remesh in the end (2.0 s without untangling, 3.9 s up to 3
+// rings, 5.7 s up to 4, 130 s up to 16); the bunny over 150 at J = 5 came out clean
+// with any of these.
+constexpr int kUntangledRings = 3;
+constexpr int kUntangleInPlaneRounds = 32;
+
+// And those untanglings place at most this many points per grid point in all. On inputs
+// that cross themselves most disks fold and stay folded: unbounded, they took the
+// remeshes of alecjacobson's beetle and suzanne over 150 faces at J = 5 from 8.3 and
+// 5.7 s to 18.5 and 14.9 s, for the same remeshes as with this bound (16.7 and 8.3 s,
+// and 7.9 and 4.2 s once deepestPoint() solved its triples by Cramer's rule).
+constexpr long long kPlaneUntangleBudget = 1;
 
 // And the untangling moves at most this many points per grid point in all: over the
 // scans of docs/REMESH.md and their decimated and noisy copies it moved at most 0.25
@@ -82,31 +100,6 @@ struct Plane {
       : origin(o), e1(normal.unitOrthogonal()), e2(normal.cross(e1)) {}
   Vec2 flat(const Vec3& x) const { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); }
 };
-
-// The deepest point of a polygon's kernel: the largest t with n[q] . x - t >= c[q] for
-// every q (a linear programme in x, y, t whose optimum has three constraints tight,
-// found by trying every triple). False if there is no finite optimum.
-bool deepestPoint(const std::vector<Vec2>& n, const std::vector<double>& c, double extent,
-                  Vec2& best, double& bestT) {
-  bestT = -std::numeric_limits<double>::infinity();
-  const int nc = static_cast<int>(n.size());
-  for (int i = 0; i < nc; ++i)
-    for (int j = i + 1; j < nc; ++j)
-      for (int k = j + 1; k < nc; ++k) {
-        Eigen::Matrix3d A;
-        A << n[i].x(), n[i].y(), -1, n[j].x(), n[j].y(), -1, n[k].x(), n[k].y(), -1;
-        const Eigen::Vector3d rhs(c[i], c[j], c[k]);
-        const Eigen::Vector3d sol = A.fullPivLu().solve(rhs);
-        if (!sol.allFinite() || !(sol.z() > bestT)) continue;
-        bool feasible = (A * sol - rhs).norm() <= 1e-9 * extent;
-        for (int q = 0; q < nc && feasible; ++q)
-          feasible = n[q].dot(sol.head<2>()) - sol.z() >= c[q] - 1e-12 * extent;
-        if (!feasible) continue;
-        bestT = sol.z();
-        best = sol.head<2>();
-      }
-  return std::isfinite(bestT);
-}
 
 // The clean-up of one remeshing, stage by stage (see cleanup.h). The remeshed surface
 // m and the samples' places on the input change together; everything else is fixed.
@@ -172,6 +165,8 @@ class Cleaner {
   // may do; not, and a larger one will not either.
   enum class Disk { moved, tryLarger, stop };
   Disk resampleDisk(int center, int k);
+  bool embedInPlane(const std::vector<int>& inner, const std::vector<int>& order,
+                    const Plane& plane, Eigen::MatrixX2d& uv, int k);
   bool placeInKernel(int v);
   int triangleOf(int a, int b) const;
   bool alongBoundary(const Where& at, int direction, double distance, Where& to, Vec3& x) const;
@@ -202,7 +197,7 @@ class Cleaner {
   std::vector<int> dist_, local_;
   // Grid points the disks of resampleDisk may still solve for, and moves the untangling
   // may still try, over the whole clean-up.
-  long long diskBudget_ = 0, untangleBudget_ = 0;
+  long long diskBudget_ = 0, untangleBudget_ = 0, planeBudget_ = 0;
   bool diskOverBudget_ = false;  // a disk was refused for the budget since last cleared
   // Faces still to repair, and the faces of the last count of defects.
   std::vector<Eigen::Index> left_, flagged_;
@@ -248,6 +243,7 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       local_(out.mesh.V.rows(), -1),
       diskBudget_(kDiskBudget * static_cast<long long>(out.mesh.V.rows())),
       untangleBudget_(kUntangleBudget * static_cast<long long>(out.mesh.V.rows())),
+      planeBudget_(kPlaneUntangleBudget * static_cast<long long>(out.mesh.V.rows())),
       givenInputCrossings_(inputCrossings),
       isTouched_(out.mesh.V.rows(), 0),
       facesNear_(out.mesh.V.rows()) {}
@@ -706,19 +702,10 @@ Cleaner::Disk Cleaner::resampleDisk(int center, int k) {
   Eigen::SparseMatrix<double> A(ni, ni);
   A.setFromTriplets(entries.begin(), entries.end());
   const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-  const Eigen::MatrixX2d uv = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !uv.allFinite()) return Disk::tryLarger;
-  auto at = [&](int v) -> Vec2 {
-    return local_[v] >= 0 ? Vec2(uv.row(local_[v]).transpose())
-                          : plane.flat(m_.V.row(v).transpose());
-  };
-  for (int v : inner) {  // it must be an embedding: positive around every moved point
-    const IndexSpan ring = rings_.ring(v);
-    const int last = rings_.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
-    for (int j = 0; j < last; ++j)
-      if (cross2(at(ring[j]) - at(v), at(ring[(j + 1) % ring.size()]) - at(v)) <= 0)
-        return Disk::tryLarger;
-  }
+  Eigen::MatrixX2d uv = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !uv.allFinite() ||
+      !embedInPlane(inner, order, plane, uv, k))
+    return Disk::tryLarger;
   double radius = 0;
   for (int v : order) radius = std::max(radius, (m_.V.row(v).transpose() - plane.origin).norm());
   std::vector<Vec2> points(ni);
@@ -728,6 +715,37 @@ Cleaner::Disk Cleaner::resampleDisk(int center, int k) {
   return lift(plane, order, 1.5 * radius, points, inner, to, found) && moveIfGood(inner, to, found)
              ? Disk::moved
              : Disk::tryLarger;
+}
+
+// Whether the flattening `uv` of a disk of k rings (rows: `inner`, in local_'s order;
+// `order`: every point of the disk) is an embedding, positive around every inner point,
+// or can be made one. Tutte's embedding is one only inside a convex boundary, and a
+// disk's boundary flattened from a curved or rough surface is not: the bunny over 150
+// faces at J = 5 kept a flipped triangle whose every disk, of 2 to 16 rings, came out
+// folded in the plane and was never lifted. Where a disk of up to kUntangledRings rings
+// folds, it is untangled in the plane (untangle.h) and `uv` updated.
+bool Cleaner::embedInPlane(const std::vector<int>& inner, const std::vector<int>& order,
+                           const Plane& plane, Eigen::MatrixX2d& uv, int k) {
+  PlanarFans fans;
+  fans.points.reserve(order.size());
+  for (Eigen::Index i = 0; i < uv.rows(); ++i) fans.points.push_back(uv.row(i).transpose());
+  // The disk's other points numbered after the inner ones (local_ is reset for all of
+  // `order` when the disk is done).
+  for (int v : order)
+    if (local_[v] < 0) {
+      local_[v] = static_cast<int>(fans.points.size());
+      fans.points.push_back(plane.flat(m_.V.row(v).transpose()));
+    }
+  for (int v : inner) {
+    fans.movers.push_back(local_[v]);
+    for (int w : rings_.ring(v)) fans.ring.push_back(local_[w]);
+    fans.ringStart.push_back(static_cast<int>(fans.ring.size()));
+    fans.closed.push_back(!rings_.isBoundaryVertex(v));
+  }
+  if (embedded(fans)) return true;
+  if (k > kUntangledRings || !untangle(fans, kUntangleInPlaneRounds, planeBudget_)) return false;
+  for (Eigen::Index i = 0; i < uv.rows(); ++i) uv.row(i) = fans.points[i].transpose();
+  return true;
 }
 
 // Third stage (Freitag and Plassmann's untangling, on the surface): one point at a time

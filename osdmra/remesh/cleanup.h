@@ -2,7 +2,8 @@
 // output triangles come out flipped (facing against the input's normals where their
 // corners were sampled), of zero area, or crossing others. Free grid points around
 // them go to the input point nearest their neighbours' centroid; disks around what is
-// left are resampled from their tangent plane (Tutte's embedding, lifted back onto the
+// left are resampled from their tangent plane (Tutte's embedding, untangled in the plane
+// where its boundary is not convex and it folds: untangle.h; lifted back onto the
 // input); then points go one at a time to where the worst of their triangles is best
 // (Freitag and Plassmann's untangling, on the surface), points on feature lines and
 // boundaries sliding along them. As a last resort, base faces still defective relax

@@ -116,12 +116,13 @@ TEST(Cleanup, CountsTheFoldsItStartsFrom) {
 // The repairs say how far they are (the callback is also how remesh() abandons a clean-up
 // it no longer needs: an exception from it ends the clean-up and reaches the caller).
 // A rough torus over 20 base faces folds where neither the first stage nor the repairs
-// mend it: the last resort runs. (Noise of 0.03: at 0.02 the folds were at base vertices'
-// corners spanning over a half turn, which the resampling now spreads, and the repairs
-// mend the rest: 3 defects before them, none after.)
+// mend it: the last resort runs. (Noise of 0.045, the torus crossing itself in 35 pairs:
+// at 0.02 the folds were at base vertices' corners spanning over a half turn, which the
+// resampling now spreads; at 0.03 the repairs left defects until they untangled their
+// disks in the plane, and mend them all now.)
 TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
   Sampled x;
-  x.input = subdivide(shapes::torus(), 1, Scheme::Loop, 0.03, 3);
+  x.input = subdivide(shapes::torus(), 1, Scheme::Loop, 0.045, 5);
   x.features = detectFeatures(x.input, 70.0);
   x.s = simplify(x.input, x.features, 20);
   const SurfaceWalker walker(x.input, x.features.list);
