@@ -762,26 +762,15 @@ bool Cleaner::placeInKernel(int v) {
   for (int w : ring) normal += reference(w);
   if (last < 2 || !(normal.norm() > 0)) return false;
   const Plane plane(m_.V.row(v).transpose(), normal.normalized());
-  // Constraints n . x - t >= n . p: left of each ring edge p -> q, by t.
-  std::vector<Vec2> n;
-  std::vector<double> c;
-  double extent = 0;
-  for (int j = 0; j < last; ++j) {
-    const Vec2 p = plane.flat(m_.V.row(ring[j]).transpose()),
-               q = plane.flat(m_.V.row(ring[(j + 1) % ring.size()]).transpose());
-    extent = std::max(extent, p.norm());
-    const Vec2 d = q - p;
-    if (!(d.norm() > 0)) return false;
-    n.push_back(Vec2(-d.y(), d.x()) / d.norm());
-    c.push_back(n.back().dot(p));
-  }
-  for (const Vec2& axis : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
-    n.push_back(-axis);  // and within the ring's extent (an open ring's kernel is not bounded)
-    c.push_back(-extent);
+  std::vector<Vec2> around;
+  double extent = 0;  // as deepestInFan() bounds the kernel: the starts of its edges
+  for (int j = 0; j < ring.size(); ++j) {
+    around.push_back(plane.flat(m_.V.row(ring[j]).transpose()));
+    if (j < last) extent = std::max(extent, around.back().norm());
   }
   Vec2 best = Vec2::Zero();
   double bestT = 0;
-  if (!deepestPoint(n, c, extent, best, bestT)) return false;
+  if (!deepestInFan(around, closed, best, bestT)) return false;
   std::vector<int> seeds(ring.begin(), ring.end());
   seeds.push_back(v);
   std::vector<Vec3> to;

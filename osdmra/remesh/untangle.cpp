@@ -35,22 +35,21 @@ bool deepestPoint(const std::vector<Vec2>& n, const std::vector<double>& c, doub
 
 namespace {
 
-// The outer edges p -> q of movers[i]'s fan as constraints n . x - t >= c on x relative to
-// the mover (left of every edge by t: its triangles counter-clockwise where t > 0), and
-// the fan's extent. Returns how far left of the nearest the mover is (-infinity where an
-// edge has no length).
-double fanConstraints(const PlanarFans& fans, std::size_t i, std::vector<Vec2>& n,
+// The outer edges p -> q of a fan around the origin (`around`: its outer points,
+// counter-clockwise, relative to the centre; `closed`: the last to the first an edge
+// too) as constraints n . x - t >= c (left of every edge by t: the fan's triangles
+// counter-clockwise where t > 0), and the fan's extent. Returns how far left of the
+// nearest the origin is (-infinity where an edge has no length).
+double fanConstraints(const std::vector<Vec2>& around, bool closed, std::vector<Vec2>& n,
                       std::vector<double>& c, double& extent) {
-  const Vec2 x = fans.points[fans.movers[i]];
-  const int start = fans.ringStart[i], size = fans.ringStart[i + 1] - start;
-  const int edges = fans.closed[i] ? size : size - 1;
+  const int size = static_cast<int>(around.size());
+  const int edges = closed ? size : size - 1;
   n.clear();
   c.clear();
   extent = 0;
   double depth = std::numeric_limits<double>::infinity();
   for (int j = 0; j < edges; ++j) {
-    const Vec2 p = fans.points[fans.ring[start + j]] - x,
-               q = fans.points[fans.ring[start + (j + 1) % size]] - x;
+    const Vec2 p = around[j], q = around[(j + 1) % size];
     extent = std::max(extent, p.norm());
     const Vec2 d = q - p;
     if (!(d.norm() > 0)) return -std::numeric_limits<double>::infinity();
@@ -61,36 +60,62 @@ double fanConstraints(const PlanarFans& fans, std::size_t i, std::vector<Vec2>& 
   return depth;
 }
 
+// The deepest point of the fan's kernel within its extent (an open fan's kernel is not
+// bounded), from fanConstraints().
+bool deepestWithin(std::vector<Vec2>& n, std::vector<double>& c, double extent, Vec2& best,
+                   double& bestT) {
+  for (const Vec2& axis : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
+    n.push_back(-axis);
+    c.push_back(-extent);
+  }
+  return deepestPoint(n, c, extent, best, bestT);
+}
+
+// movers[i]'s fan, relative to it.
+void fanOf(const PlanarFans& fans, std::size_t i, std::vector<Vec2>& around) {
+  const Vec2 x = fans.points[fans.movers[i]];
+  around.clear();
+  for (int j = fans.ringStart[i]; j < fans.ringStart[i + 1]; ++j)
+    around.push_back(fans.points[fans.ring[j]] - x);
+}
+
 }  // namespace
 
-bool embedded(const PlanarFans& fans) {
+bool deepestInFan(const std::vector<Vec2>& around, bool closed, Vec2& best, double& bestT) {
   std::vector<Vec2> n;
   std::vector<double> c;
   double extent = 0;
-  for (std::size_t i = 0; i < fans.movers.size(); ++i)
-    if (!(fanConstraints(fans, i, n, c, extent) > 0)) return false;
+  if (!std::isfinite(fanConstraints(around, closed, n, c, extent))) return false;
+  return deepestWithin(n, c, extent, best, bestT);
+}
+
+bool embedded(const PlanarFans& fans) {
+  std::vector<Vec2> around, n;
+  std::vector<double> c;
+  double extent = 0;
+  for (std::size_t i = 0; i < fans.movers.size(); ++i) {
+    fanOf(fans, i, around);
+    if (!(fanConstraints(around, fans.closed[i], n, c, extent) > 0)) return false;
+  }
   return true;
 }
 
 bool untangle(PlanarFans& fans, int rounds, long long& budget) {
-  std::vector<Vec2> n;
+  std::vector<Vec2> around, n;
   std::vector<double> c;
   for (int round = 0; round < rounds; ++round) {
     bool folded = false, deeper = false;
     for (std::size_t i = 0; i < fans.movers.size(); ++i) {
       double extent = 0;
-      const double depth = fanConstraints(fans, i, n, c, extent);
+      fanOf(fans, i, around);
+      const double depth = fanConstraints(around, fans.closed[i], n, c, extent);
       if (depth > 0) continue;
       folded = true;
       if (!std::isfinite(depth)) continue;
       if (budget-- <= 0) return false;
-      for (const Vec2& axis : {Vec2(1, 0), Vec2(-1, 0), Vec2(0, 1), Vec2(0, -1)}) {
-        n.push_back(-axis);  // within the fan's extent (an open fan's kernel is unbounded)
-        c.push_back(-extent);
-      }
       Vec2 best;
       double bestT = 0;
-      if (!deepestPoint(n, c, extent, best, bestT) || !(bestT > depth + 1e-12 * extent)) continue;
+      if (!deepestWithin(n, c, extent, best, bestT) || !(bestT > depth + 1e-12 * extent)) continue;
       fans.points[fans.movers[i]] += best;
       deeper = true;
     }

@@ -20,6 +20,12 @@ namespace osdmra::remeshing {
 bool deepestPoint(const std::vector<Vec2>& n, const std::vector<double>& c, double extent,
                   Vec2& best, double& bestT);
 
+/// The deepest point of the kernel of a fan around the origin, within the fan's extent:
+/// `around` its outer points counter-clockwise, relative to its centre, and with `closed`
+/// the last and the first a triangle with it too. False where an outer edge has no
+/// length or there is no optimum.
+bool deepestInFan(const std::vector<Vec2>& around, bool closed, Vec2& best, double& bestT);
+
 /// Planar points and the fan of triangles around each of those that may move: movers[i]'s
 /// neighbours counter-clockwise are ring[ringStart[i]], ..., ring[ringStart[i + 1] - 1]
 /// (indices into `points`), and with closed[i] the last and the first make a triangle

@@ -78,6 +78,21 @@ TEST(Untangle, DeepestPointOfASquareAndATriangle) {
   EXPECT_NEAR(t, 1.0, 1e-12);
 }
 
+// A regular hexagon's fan around its centre: the kernel is the hexagon, its deepest
+// point the centre, at the apothem from every edge; a fan with an edge of no length has
+// no kernel to speak of.
+TEST(Untangle, DeepestPointOfAFan) {
+  std::vector<Vec2> around;
+  for (int j = 0; j < 6; ++j) around.emplace_back(std::cos(j * kPi / 3), std::sin(j * kPi / 3));
+  Vec2 best;
+  double t = 0;
+  ASSERT_TRUE(deepestInFan(around, true, best, t));
+  EXPECT_NEAR(best.norm(), 0.0, 1e-12);
+  EXPECT_NEAR(t, std::sqrt(3.0) / 2, 1e-12);
+  around[3] = around[2];
+  EXPECT_FALSE(deepestInFan(around, true, best, t));
+}
+
 TEST(Untangle, AnEmbeddedTriangulationIsLeftBitForBit) {
   PlanarFans fans = latticeHexagon();
   ASSERT_EQ(fans.movers.size(), 7u);
