@@ -72,6 +72,9 @@ Json remeshJson(const RemeshReport& r) {
                             .add("refused", r.result.smoothingRefused))
       .add("base_flips",
            Json::object().add("made", r.result.baseFlips).add("refused", r.result.baseFlipsRefused))
+      .add("base_splits", Json::object()
+                              .add("made", r.result.baseSplits)
+                              .add("refused", r.result.baseSplitsRefused))
       .add("grid_map", Json::object()
                            .add("used", r.result.gridMap)
                            .add("straightened_folds", r.result.straightenedFolds)

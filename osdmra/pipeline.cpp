@@ -383,6 +383,9 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   if (search.stagesPerVertex) options.remeshing.stages = StageRelaxation::perVertex;
   if (search.retriangulateByError) options.remeshing.retriangulateByError = true;
   options.remeshing.skinnyWhereFlat = ask.skinnyWhereFlat;
+  // A level of detail within the budget may be the base itself: no splits past the size
+  // asked.
+  options.remeshing.splitFoldingFaces = false;
   if (search.levelsForEachBase && options.remeshing.maxFaces == 0)
     options.remeshing.maxFaces = kLodRemeshingFaces;
   Trial t;

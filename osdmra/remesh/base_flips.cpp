@@ -37,6 +37,26 @@ struct Quad {
   Vec2 flat(int v) const { return v == a ? pa : v == b ? pb : v == c ? pc : pd; }
 };
 
+// A split of the longest edge (a, c) of a base face whose grid folds: an input vertex
+// held by the pair about it (or by the face alone, on the boundary) made a base vertex
+// again, the faces fanned about it. Corners by local id: 0 the new vertex, 1 a, 2 b,
+// 3 c, 4 d (as in Quad; no d on the boundary).
+struct Split {
+  bool boundary = false;   // (a, c) on the boundary: one face split in two
+  bool onEdge = false;     // the vertex on (a, c) itself: a boundary or feature line's
+  int vertex = -1;         // the input vertex
+  Vec2 at = Vec2::Zero();  // its place in the flat pair
+  std::vector<std::array<int, 3>> fan() const {
+    if (boundary) return {{1, 0, 2}, {0, 3, 2}};
+    return {{0, 1, 4}, {0, 4, 3}, {0, 3, 2}, {0, 2, 1}};
+  }
+};
+
+template <typename T>
+std::array<T, 3> corners(const std::array<int, 3>& local, const std::array<T, 5>& of) {
+  return {of[local[0]], of[local[1]], of[local[2]]};
+}
+
 class Flipper {
  public:
   Flipper(Simplification& s, const BaseFlipOptions& options) : s_(s), options_(options) {
@@ -44,12 +64,7 @@ class Flipper {
     inputOf_.assign(s.base.V.rows(), -1);
     for (int v = 0; v < n; ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
-    pointsOf_.resize(s.base.F.rows());
-    for (int v = 0; v < n; ++v)
-      if (s.baseOf[v] < 0) pointsOf_[s.params[v].face].push_back(v);
-    facesOf_.resize(s.base.V.rows());
-    for (Eigen::Index f = 0; f < s.base.F.rows(); ++f)
-      for (int k = 0; k < 3; ++k) facesOf_[s.base.F(f, k)].push_back(static_cast<int>(f));
+    indexFaces();
   }
 
   BaseFlipReport run() {
@@ -58,6 +73,12 @@ class Flipper {
       const int made = flipSweep(report);
       if (made == 0) break;
     }
+    return report;
+  }
+
+  BaseFlipReport split(const std::vector<int>& folds) {
+    BaseFlipReport report;
+    if (options_.maxSplits > 0 && options_.input) splitFolds(folds, report);
     return report;
   }
 
@@ -74,7 +95,19 @@ class Flipper {
   bool quadAbout(int f1, int k, int f2, Quad& q) const;
   bool isCap(const Quad& q) const;
   bool convexAndFlat(const Quad& q) const;
-  bool makesCrossing(const Quad& q) const;
+  bool makesCrossing(const Quad& q, const Points& V,
+                     const std::vector<std::array<int, 3>>& made) const;
+  void splitFolds(const std::vector<int>& folds, BaseFlipReport& report);
+  bool singleAbout(int f, int k, Quad& q) const;
+  bool splitPoint(const Quad& q, Split& split) const;
+  bool splitFoldsLess(const Quad& q, const Split& split) const;
+  std::vector<int> slotsOf(const Quad& q) const;
+  bool moveSplitPoints(const Quad& q, const Split& split,
+                       std::vector<std::pair<int, Param>>& moved) const;
+  bool splitMakesCrossing(const Quad& q, const Split& split) const;
+  void commitSplit(const Quad& q, const Split& split,
+                   const std::vector<std::pair<int, Param>>& moved);
+  void indexFaces();
   bool foldsLess(const Quad& q) const;
   int foldsOver(const Quad& q, const std::array<Vec2, 3>& face) const;
   bool onInput(const Quad& q, const std::vector<Vec2>& points, const Vec2& at, Vec3& position,
@@ -112,7 +145,8 @@ int Flipper::flipSweep(BaseFlipReport& report) {
       if (touched[f2] || !quadAbout(f1, k, f2, q) || !isCap(q)) continue;
       std::vector<std::pair<int, Param>> moved;
       if (isFeature(q.a, q.c) || edges_.count(edgeKey(q.b, q.d)) || facesOf_[q.a].size() < 4 ||
-          facesOf_[q.c].size() < 4 || !convexAndFlat(q) || makesCrossing(q) ||
+          facesOf_[q.c].size() < 4 || !convexAndFlat(q) ||
+          makesCrossing(q, s_.base.V, {{q.a, q.d, q.b}, {q.c, q.b, q.d}}) ||
           (options_.levels > 0 && options_.input && !foldsLess(q)) || !movePoints(q, moved)) {
         ++report.refused;
         continue;
@@ -128,22 +162,15 @@ int Flipper::flipSweep(BaseFlipReport& report) {
 // The pair about edge k of f1 (corners k, k + 1), laid flat; false where f2 does not
 // hold that edge the other way round (a non-manifold or misoriented pair).
 bool Flipper::quadAbout(int f1, int k, int f2, Quad& q) const {
-  const auto t1 = face(f1), t2 = face(f2);
-  q.f1 = f1;
+  singleAbout(f1, k, q);
+  const auto t2 = face(f2);
   q.f2 = f2;
-  q.a = t1[k];
-  q.c = t1[(k + 1) % 3];
-  q.b = t1[(k + 2) % 3];
   int j = 0;
   while (j < 3 && !(t2[j] == q.c && t2[(j + 1) % 3] == q.a)) ++j;
   if (j == 3) return false;
   q.d = t2[(j + 2) % 3];
   if (q.b == q.d) return false;
-  const auto up = layFlat(position(q.a), position(q.c), position(q.b));
   const auto down = layFlat(position(q.a), position(q.c), position(q.d));
-  q.pa = up[0];
-  q.pc = up[1];
-  q.pb = up[2];
   q.pd = Vec2(down[2].x(), -down[2].y());
   return true;
 }
@@ -176,19 +203,21 @@ bool Flipper::convexAndFlat(const Quad& q) const {
 
 // Whether a flipped face would meet a base face in space that neither old face met (the
 // base never crosses itself where the simplification kept it from doing so).
-bool Flipper::makesCrossing(const Quad& q) const {
-  const Points& V = s_.base.V;
-  const std::array<std::array<int, 3>, 2> made = {{{q.a, q.d, q.b}, {q.c, q.b, q.d}}};
-  const std::array<int, 3> old1 = face(q.f1), old2 = face(q.f2);
+bool Flipper::makesCrossing(const Quad& q, const Points& V,
+                            const std::vector<std::array<int, 3>>& made) const {
+  const std::array<int, 3> old1 = face(q.f1), old2 = q.f2 >= 0 ? face(q.f2) : old1;
   Box box;
-  for (int v : {q.a, q.b, q.c, q.d}) box.extend(position(v));
+  for (const auto& t : made)
+    for (int v : t) box.extend(V.row(v).transpose());
   for (Eigen::Index g = 0; g < s_.base.F.rows(); ++g) {
     if (g == q.f1 || g == q.f2) continue;
     const std::array<int, 3> t = face(static_cast<int>(g));
     Box gb;
     for (int v : t) gb.extend(position(v));
     if (!gb.intersects(box)) continue;
-    if (!trianglesMeet(V, made[0], t) && !trianglesMeet(V, made[1], t)) continue;
+    if (std::none_of(made.begin(), made.end(),
+                     [&](const std::array<int, 3>& m) { return trianglesMeet(V, m, t); }))
+      continue;
     if (!trianglesMeet(V, old1, t) && !trianglesMeet(V, old2, t)) return true;
   }
   return false;
@@ -199,8 +228,9 @@ bool Flipper::makesCrossing(const Quad& q) const {
 bool Flipper::onInput(const Quad& q, const std::vector<Vec2>& points, const Vec2& at,
                       Vec3& position, Vec3& normal) const {
   static const std::vector<std::array<int, 3>> kOldPair = {{0, 1, 2}, {1, 0, 3}};
+  static const std::vector<std::array<int, 3>> kOldFace = {{0, 1, 2}};
   std::array<double, 3> bary;
-  const int t = locateInTriangles(at, points, kOldPair, bary);
+  const int t = locateInTriangles(at, points, q.f2 >= 0 ? kOldPair : kOldFace, bary);
   if (t < 0) return false;
   const int f = t == 0 ? q.f1 : q.f2;
   const std::array<int, 3> corners =
@@ -319,10 +349,244 @@ void Flipper::commit(const Quad& q, const std::vector<std::pair<int, Param>>& mo
   }
 }
 
+// Base faces whose grid folds, the longest edge of each split, most folds first, each a
+// step of the parameterisation that traceToInput undoes. A finer base where sampling
+// folds: a base face's grid folds less the smaller the face is against the input's
+// creases.
+void Flipper::splitFolds(const std::vector<int>& folds, BaseFlipReport& report) {
+  std::unordered_map<std::uint64_t, std::vector<int>> facesOfEdge;
+  const int nf = static_cast<int>(s_.base.F.rows());
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      facesOfEdge[edgeKey(s_.base.F(f, k), s_.base.F(f, (k + 1) % 3))].push_back(f);
+  // The quad about f's longest edge (or f alone, that edge on the boundary).
+  auto quadOf = [&](int f, Quad& q) {
+    const auto t = face(f);
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+      if ((position(t[(i + 1) % 3]) - position(t[i])).norm() >
+          (position(t[(k + 1) % 3]) - position(t[k])).norm())
+        k = i;
+    const auto& pair = facesOfEdge[edgeKey(t[k], t[(k + 1) % 3])];
+    if (pair.size() == 1) return singleAbout(f, k, q);
+    return pair.size() == 2 && quadAbout(f, k, pair[0] == f ? pair[1] : pair[0], q);
+  };
+  std::vector<std::pair<int, int>> folding;  // (folds, face)
+  for (int f = 0; f < nf && f < static_cast<int>(folds.size()); ++f)
+    if (folds[f] > 0) folding.push_back({folds[f], f});
+  std::sort(folding.rbegin(), folding.rend());
+  std::vector<char> touched(nf, 0);
+  for (const auto& [count, f1] : folding) {
+    if (report.splits >= options_.maxSplits) break;
+    Quad q;
+    if (touched[f1] || !quadOf(f1, q) || (q.f2 >= 0 && touched[q.f2])) continue;
+    Split split;
+    split.boundary = q.f2 < 0;
+    split.onEdge = split.boundary || isFeature(q.a, q.c);
+    std::vector<std::pair<int, Param>> moved;
+    if (!splitPoint(q, split) || !splitFoldsLess(q, split) || !moveSplitPoints(q, split, moved) ||
+        splitMakesCrossing(q, split)) {
+      ++report.splitsRefused;
+      continue;
+    }
+    commitSplit(q, split, moved);
+    touched[f1] = 1;
+    if (q.f2 >= 0) touched[q.f2] = 1;
+    ++report.splits;
+  }
+}
+
+// Face f alone about its edge k, as quadAbout lays a pair (no d: b mirrored, never used).
+bool Flipper::singleAbout(int f, int k, Quad& q) const {
+  const auto t = face(f);
+  q.f1 = f;
+  q.f2 = q.d = -1;
+  q.a = t[k];
+  q.c = t[(k + 1) % 3];
+  q.b = t[(k + 2) % 3];
+  const auto up = layFlat(position(q.a), position(q.c), position(q.b));
+  q.pa = up[0];
+  q.pc = up[1];
+  q.pb = up[2];
+  q.pd = Vec2(up[2].x(), -up[2].y());
+  return true;
+}
+
+// The input vertex held by the pair whose re-insertion leaves the new faces' widest
+// angle in space smallest, and under 120 degrees or the pair's widest: strictly inside
+// the flat pair's kernel (on the edge itself where that is a boundary or feature line,
+// which it then keeps), each new face about as in space as in the pair (the points keep
+// their flat places).
+bool Flipper::splitPoint(const Quad& q, Split& split) const {
+  constexpr double kMargin = 1e-3;
+  const TriMesh& in = *options_.input;
+  double best = std::max(largestAngle(q.pa, q.pc, q.pb), 120 * kPi / 180);
+  if (q.f2 >= 0) best = std::max(best, largestAngle(q.pc, q.pa, q.pd));
+  const auto fan = split.fan();
+  for (int f : {q.f1, q.f2}) {
+    if (f < 0) continue;
+    for (int point : pointsOf_[f]) {
+      const Param& p = s_.params[point];
+      Vec2 at = Vec2::Zero();
+      double offEdge = 0;
+      for (int i = 0; i < 3; ++i) {
+        const int corner = s_.base.F(f, i);
+        at += p.bary[i] * q.flat(corner);
+        if (corner != q.a && corner != q.c) offEdge = p.bary[i];
+      }
+      if (split.onEdge != (std::abs(offEdge) < 1e-12)) continue;
+      const std::array<Vec2, 5> flat = {at, q.pa, q.pb, q.pc, q.pd};
+      const std::array<Vec3, 5> space = {in.V.row(point).transpose(), position(q.a), position(q.b),
+                                         position(q.c), q.f2 >= 0 ? position(q.d) : Vec3::Zero()};
+      double widest = 0;
+      bool ok = true;
+      for (const auto& local : fan) {
+        const auto t = corners(local, flat);
+        for (int i = 0; i < 3 && ok; ++i)
+          ok = sineAt(t[i], t[(i + 1) % 3], t[(i + 2) % 3]) > kMargin;
+        if (!ok || !(anisotropy(corners(local, space), t) <= options_.splitStretch)) {
+          ok = false;
+          break;
+        }
+        const auto laid = layFlat(space[local[0]], space[local[1]], space[local[2]]);
+        widest = std::max(widest, largestAngle(laid[0], laid[1], laid[2]));
+      }
+      if (ok && widest < best) best = widest, split.vertex = point, split.at = at;
+    }
+  }
+  return split.vertex >= 0;
+}
+
+// Whether the grid over the new faces folds no more than over the old.
+bool Flipper::splitFoldsLess(const Quad& q, const Split& split) const {
+  int before = foldsOver(q, {q.pa, q.pc, q.pb});
+  if (q.f2 >= 0) before += foldsOver(q, {q.pc, q.pa, q.pd});
+  const std::array<Vec2, 5> flat = {split.at, q.pa, q.pb, q.pc, q.pd};
+  int after = 0;
+  for (const auto& local : split.fan())
+    if ((after += foldsOver(q, corners(local, flat))) > before) return false;
+  return true;
+}
+
+// The slots of the new faces: the old ones', then new ones at the end of the base.
+std::vector<int> Flipper::slotsOf(const Quad& q) const {
+  const int nf = static_cast<int>(s_.base.F.rows());
+  if (q.f2 < 0) return {q.f1, nf};
+  return {q.f1, q.f2, nf, nf + 1};
+}
+
+// Every other point of the old faces at its place in the new ones.
+bool Flipper::moveSplitPoints(const Quad& q, const Split& split,
+                              std::vector<std::pair<int, Param>>& moved) const {
+  const std::vector<Vec2> points = {split.at, q.pa, q.pb, q.pc, q.pd};
+  const auto fan = split.fan();
+  const auto slot = slotsOf(q);
+  for (int f : {q.f1, q.f2}) {
+    if (f < 0) continue;
+    for (int point : pointsOf_[f]) {
+      if (point == split.vertex) continue;
+      const Param& p = s_.params[point];
+      Vec2 at = Vec2::Zero();
+      for (int i = 0; i < 3; ++i) at += p.bary[i] * q.flat(s_.base.F(f, i));
+      std::array<double, 3> bary;
+      const int t = locateInTriangles(at, points, fan, bary);
+      if (t < 0) return false;
+      moved.push_back({point, {slot[t], bary}});
+    }
+  }
+  return true;
+}
+
+// Whether a new face would meet a base face in space that the old ones did not meet.
+bool Flipper::splitMakesCrossing(const Quad& q, const Split& split) const {
+  const int nv = static_cast<int>(s_.base.V.rows());
+  Points V(nv + 1, 3);
+  V.topRows(nv) = s_.base.V;
+  V.row(nv) = options_.input->V.row(split.vertex);
+  const std::array<int, 5> id = {nv, q.a, q.b, q.c, q.d};
+  std::vector<std::array<int, 3>> made;
+  for (const auto& local : split.fan()) made.push_back(corners(local, id));
+  return makesCrossing(q, V, made);
+}
+
+// The split made: the input vertex a base vertex again, the old faces' slots and new ones
+// the fan about it; the history records it as a removal whose "removed" vertex a stays
+// (its fan about a the old faces, as a flip's), the new vertex at the last ring position.
+void Flipper::commitSplit(const Quad& q, const Split& split,
+                          const std::vector<std::pair<int, Param>>& moved) {
+  History& h = s_.history;
+  const int record = static_cast<int>(h.removals.size());
+  const int v = split.vertex;
+  RemovalRecord r;
+  r.vertex = inputOf_[q.a];
+  std::array<int, 5> ring;  // local id -> ring position
+  if (split.boundary) {
+    r.verts = {inputOf_[q.c], inputOf_[q.b], inputOf_[q.a], v};
+    r.oldFaces = {h.baseFace[q.f1]};
+    r.points = {q.pc, q.pb, Vec2::Zero(), split.at};
+    ring = {3, 2, 1, 0, -1};
+  } else {
+    r.verts = {inputOf_[q.d], inputOf_[q.c], inputOf_[q.b], inputOf_[q.a], v};
+    r.oldFaces = {h.baseFace[q.f2], h.baseFace[q.f1]};
+    r.points = {q.pd, q.pc, q.pb, Vec2::Zero(), split.at};
+    ring = {4, 3, 2, 1, 0};
+  }
+  const auto fan = split.fan();
+  for (const auto& local : fan) r.triangles.push_back(corners(local, ring));
+  h.removals.push_back(std::move(r));
+  const auto slot = slotsOf(q);
+  const int nv = static_cast<int>(s_.base.V.rows());
+  s_.base.V.conservativeResize(nv + 1, 3);
+  s_.base.V.row(nv) = options_.input->V.row(v);
+  s_.base.F.conservativeResize(slot.back() + 1, 3);
+  h.baseFace.resize(s_.base.F.rows());
+  s_.baseOf[v] = nv;
+  inputOf_.push_back(v);
+  if (split.onEdge && !split.boundary) {
+    s_.featureEdges.erase(edgeKey(inputOf_[q.a], inputOf_[q.c]));
+    s_.featureEdges.insert(edgeKey(inputOf_[q.a], v));
+    s_.featureEdges.insert(edgeKey(v, inputOf_[q.c]));
+  }
+  const std::array<int, 5> id = {nv, q.a, q.b, q.c, q.d};
+  for (std::size_t t = 0; t < fan.size(); ++t) {
+    const auto made = corners(fan[t], id);
+    h.faces.push_back({inputOf_[made[0]], inputOf_[made[1]], inputOf_[made[2]]});
+    h.removal.push_back(record);
+    h.triangle.push_back(static_cast<int>(t));
+    h.baseFace[slot[t]] = static_cast<int>(h.faces.size()) - 1;
+    for (int i = 0; i < 3; ++i) s_.base.F(slot[t], i) = made[i];
+  }
+  for (const auto& [point, param] : moved) s_.params[point] = param;
+  indexFaces();
+  for (int u : {nv, q.a, q.b, q.c, q.d}) {
+    if (u < 0) continue;
+    Param& p = s_.params[inputOf_[u]];
+    if (u != nv && std::find(slot.begin(), slot.end(), p.face) == slot.end()) continue;
+    p.face = facesOf_[u].front();
+    for (int i = 0; i < 3; ++i) p.bary[i] = s_.base.F(p.face, i) == u ? 1.0 : 0.0;
+  }
+}
+
+// The base faces of every base vertex and the points of every base face, afresh.
+void Flipper::indexFaces() {
+  const int n = static_cast<int>(s_.baseOf.size());
+  pointsOf_.assign(s_.base.F.rows(), {});
+  for (int v = 0; v < n; ++v)
+    if (s_.baseOf[v] < 0) pointsOf_[s_.params[v].face].push_back(v);
+  facesOf_.assign(s_.base.V.rows(), {});
+  for (Eigen::Index f = 0; f < s_.base.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) facesOf_[s_.base.F(f, k)].push_back(static_cast<int>(f));
+}
+
 }  // namespace
 
 BaseFlipReport flipCaps(Simplification& s, const BaseFlipOptions& options) {
   return Flipper(s, options).run();
+}
+
+BaseFlipReport splitFoldingFaces(Simplification& s, const std::vector<int>& folds,
+                                 const BaseFlipOptions& options) {
+  return Flipper(s, options).split(folds);
 }
 
 }  // namespace osdmra::remeshing

@@ -6,7 +6,14 @@
 // recorded in the history as a removal is, so traceToInput undoes it and the map stays a
 // bijection by construction: the two faces are laid flat about their shared edge, and a
 // flip is made only where that quad is strictly convex.
+// And base edge splits, where the grid sampled over a face still folds (remesh.cpp
+// samples first, then splits): the face's longest edge split at an input vertex made a
+// base vertex again, inside the pair laid flat (or on the edge, where it is a boundary
+// or feature line), recorded as a flip is; a smaller base face's grid straddles fewer of
+// the input's creases.
 #pragma once
+
+#include <vector>
 
 #include "osdmra/mesh/mesh.h"
 #include "osdmra/remesh/simplify.h"
@@ -34,12 +41,19 @@ struct BaseFlipOptions {
   const TriMesh* input = nullptr;
   /// Sweeps over the base at most (a flip can make a neighbouring pair a candidate).
   int maxSweeps = 8;
+  /// splitFoldingFaces(): at most this many splits (each adds a base vertex and two base
+  /// faces, one on the boundary).
+  int maxSplits = 0;
+  /// As `stretch`, for the faces a split makes.
+  double splitStretch = 2;
 };
 
 struct BaseFlipReport {
-  int flips = 0;    ///< flips made
-  int refused = 0;  ///< candidates refused, over all sweeps (not convex, a pinch, a crossing,
-                    ///< no fewer folds)
+  int flips = 0;          ///< flips made
+  int refused = 0;        ///< candidates refused, over all sweeps (not convex, a pinch, a crossing,
+                          ///< no fewer folds)
+  int splits = 0;         ///< caps split
+  int splitsRefused = 0;  ///< caps left whole
 };
 
 /// Flips candidates of `s.base` (never a boundary or feature edge, never making an edge
@@ -48,5 +62,18 @@ struct BaseFlipReport {
 /// the pair by the piecewise-linear map of the flattened quad and recording the flip in
 /// `s.history`.
 BaseFlipReport flipCaps(Simplification& s, const BaseFlipOptions& options = {});
+
+/// Splits the longest edge of base faces whose grid folds (`folds`: per base face, how many
+/// of the triangles sampled over it fold), most folds first, at most options.maxSplits
+/// times: an input vertex held by the faces about that edge (on the edge itself where it
+/// is a boundary or feature line) is made a base vertex again and those faces fanned
+/// about it, where that leaves the new faces' widest angle in space under 120 degrees or
+/// the old faces' widest, each new face within options.splitStretch of its flat shape,
+/// no new crossing of the base, and the grid of options.levels splits over the new faces
+/// (through the exact map, options.input) folding no more than over the old. Each split
+/// is recorded in `s.history` as a flip is, so the map stays a bijection; genus,
+/// boundary loops and components are kept.
+BaseFlipReport splitFoldingFaces(Simplification& s, const std::vector<int>& folds,
+                                 const BaseFlipOptions& options);
 
 }  // namespace osdmra::remeshing

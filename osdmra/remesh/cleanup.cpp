@@ -1060,15 +1060,21 @@ void Cleaner::run(const Progress& progress, const std::function<void()>& lastRes
 
 }  // namespace
 
-long long foldedTriangles(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
-                          const TriMesh& input, const Connectivity& inputConn) {
+std::vector<char> foldedTriangleFlags(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
+                                      const TriMesh& input, const Connectivity& inputConn) {
   const double tiny = tinyAreaFor(boundingBoxDiagonal(input.V));
-  long long count = 0;
+  std::vector<char> flags(mesh.F.rows(), 0);
   bool degenerate = false;
   for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
-    count += folded(mesh, where, {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)}, input, inputConn, tiny,
-                    degenerate);
-  return count;
+    flags[f] = folded(mesh, where, {mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2)}, input, inputConn,
+                      tiny, degenerate);
+  return flags;
+}
+
+long long foldedTriangles(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
+                          const TriMesh& input, const Connectivity& inputConn) {
+  const std::vector<char> flags = foldedTriangleFlags(mesh, where, input, inputConn);
+  return std::count(flags.begin(), flags.end(), 1);
 }
 
 void cleanUp(Remeshing& out, const TriMesh& input, const std::vector<char>& free,

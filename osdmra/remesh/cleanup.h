@@ -29,6 +29,10 @@ namespace osdmra::remeshing {
 long long foldedTriangles(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
                           const TriMesh& input, const Connectivity& inputConn);
 
+/// The same, triangle by triangle: 1 where folded.
+std::vector<char> foldedTriangleFlags(const TriMesh& mesh, const std::vector<SurfacePoint>& where,
+                                      const TriMesh& input, const Connectivity& inputConn);
+
 /// Repairs out.mesh (M^J over out.base, sampled from `input`; `where` its vertices'
 /// places on the input, kept up to date; `free` and `line` as in resample.h) and sets
 /// the defect counts and the clean-up's own of `out`. `lastResort`, if set, is called

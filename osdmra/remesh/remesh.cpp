@@ -186,14 +186,39 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
   return t;
 }
 
+// Per base face, the triangles of its grid that fold.
+std::vector<int> foldsPerBaseFace(const Sampling& sampling, const TriMesh& input,
+                                  const SurfaceWalker& walker, int levels) {
+  const std::vector<char> folded = remeshing::foldedTriangleFlags(
+      sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
+  const long long per = 1LL << (2 * levels);
+  std::vector<int> folds(folded.size() / per, 0);
+  for (std::size_t t = 0; t < folded.size(); ++t) folds[t / per] += folded[t];
+  return folds;
+}
+
+// How the base faces whose grid folds are split (base_flips.h): checked on grids of the
+// same levels, at most `room` splits.
+remeshing::BaseFlipOptions splitOptions(const TriMesh& input, int levels, int room) {
+  remeshing::BaseFlipOptions options;
+  options.levels = levels;
+  options.input = &input;
+  options.maxSplits = room;
+  return options;
+}
+
 // Steps 2 and 3 (remesh()): the grid sampled through the straightened map, or through
 // the exact one where only that one folds nothing, then cleaned up; and through the other
 // map too where the clean-up leaves defects.
 Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
                             const CrossingPairs* inputCrossings, const SurfaceWalker& walker,
-                            const remeshing::Features& features, const remeshing::Simplification& s,
-                            const remeshing::BaseCharts& charts, const Progress& progress) {
+                            const remeshing::Features& features,
+                            const remeshing::Simplification& simplified,
+                            const remeshing::BaseCharts& simplifiedCharts, int splitRoom,
+                            const Progress& progress) {
   using namespace remeshing;
+  const Simplification* s = &simplified;
+  const BaseCharts* charts = &simplifiedCharts;
   // Step 2 through the straightened map, and where its grid folds, through the exact
   // inverse of the removals too; step 3 on the exact map's grid where that folds none,
   // so that the clean-up has nothing to unfold, and on the straightened one otherwise.
@@ -209,7 +234,7 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
   // Hausdorff 1.041x) than cleaning up the exact one only where it folds none (1.012x,
   // 1.008x), for the same 15 runs of 96 spared the clean-up (docs/REMESH.md).
   auto sample = [&](GridMap map, const Progress& p) {
-    Sampling sampling{map, resample(input, walker.connectivity(), features.list, s, charts,
+    Sampling sampling{map, resample(input, walker.connectivity(), features.list, *s, *charts,
                                     common.levels, map, p)};
     sampling.folds =
         foldedTriangles(sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
@@ -217,10 +242,38 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
   };
   Remeshing out = common;
   Sampling first = sample(GridMap::straightened, progress);
-  out.straightenedFolds = first.folds;
   std::optional<Sampling> second;
-  if (first.folds > 0) {
-    second = sample(GridMap::exact, progress);
+  if (first.folds > 0) second = sample(GridMap::exact, progress);
+  // Where both grids fold, the base faces holding the straightened one's folds split, and
+  // both sampled again over the split base, kept where its straightened grid folds less.
+  Simplification split;
+  std::optional<BaseCharts> splitCharts;
+  if (first.folds > 0 && second->folds > 0 && splitRoom > 0) {
+    split = simplified;
+    const BaseFlipReport report =
+        splitFoldingFaces(split, foldsPerBaseFace(first, input, walker, common.levels),
+                          splitOptions(input, common.levels, splitRoom));
+    out.baseSplitsRefused = report.splitsRefused;
+    if (report.splits > 0) {
+      splitCharts.emplace(split.base);
+      s = &split;
+      charts = &*splitCharts;
+      Sampling again = sample(GridMap::straightened, progress);
+      if (again.folds < first.folds) {
+        first = std::move(again);
+        second = first.folds > 0 ? std::optional<Sampling>(sample(GridMap::exact, progress))
+                                 : std::nullopt;
+        out.base = split.base;
+        out.baseSplits = report.splits;
+      } else {
+        out.baseSplitsRefused += report.splits;
+        s = &simplified;
+        charts = &simplifiedCharts;
+      }
+    }
+  }
+  out.straightenedFolds = first.folds;
+  if (second) {
     out.exactFolds = second->folds;
     if (second->folds == 0) std::swap(first, *second);
   }
@@ -301,7 +354,14 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
     out.smoothingMoves = report.moves;
     out.smoothingRefused = report.refused;
   }
-  return sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, progress);
+  // Splits of base faces whose grid folds while the base stays within 10% of the size
+  // asked (each adds two faces), and the output within maxFaces.
+  long long room = static_cast<long long>(1.1 * options.baseFaces) - s.base.F.rows();
+  if (options.maxFaces > 0)
+    room = std::min(room, (options.maxFaces >> (2 * out.levels)) - s.base.F.rows());
+  const int splitRoom = options.splitFoldingFaces ? static_cast<int>(std::max(0LL, room / 2)) : 0;
+  return sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, splitRoom,
+                           progress);
 }
 
 }  // namespace

@@ -22,7 +22,9 @@
 //    the input through the parameterisation made affine on each input triangle between
 //    its corners' places (charts.h): the map whose distortion step 2 bounded. Where
 //    that grid folds a triangle, the grid through the exact inverse of the removals is
-//    sampled too, and kept where it folds none.
+//    sampled too, and kept where it folds none; where both fold, the base faces holding
+//    the folds are split (base_flips.h, within 10% of the size asked) and both grids
+//    sampled again, the split base kept where it folds less.
 // 5. Clean-up (cleanup.h), a safety net for what sampling still folds; remesh()
 //    reports how much of it ran.
 //
@@ -130,6 +132,10 @@ struct RemeshOptions {
   /// 0.0160% -> 0.0056% over 300 faces), one fewer run with defects, 22 of 96 rows
   /// changed, RMS 0.977x and Hausdorff 0.982x.
   double capAngle = 90;
+  /// Where the grid sampled through the straightened map folds, split the longest edge of
+  /// the base faces holding its folds (base_flips.h's splitFoldingFaces), while the base
+  /// stays within 10% of `baseFaces`, and keep the split base where its grid folds less.
+  bool splitFoldingFaces = true;
   /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
   /// moved a short way on the surface where that leaves fewer folds.
   bool unfoldInput = true;
@@ -164,6 +170,9 @@ struct Remeshing {
   int smoothingMoves = 0, smoothingRefused = 0;
   /// Base edges flipped out of caps, and caps left (base_flips.h).
   int baseFlips = 0, baseFlipsRefused = 0;
+  /// Base faces whose grid folded split, and splits refused (or undone, where the split
+  /// base's grid folded no less) (RemeshOptions::splitFoldingFaces).
+  int baseSplits = 0, baseSplitsRefused = 0;
   /// The map the grid was sampled through (resample.h's GridMap): the straightened
   /// one, or where that folds grid triangles and the exact one folds none, the exact
   /// one; or the other where the first one's clean-up left defects and the other's

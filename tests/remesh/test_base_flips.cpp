@@ -1,6 +1,7 @@
-// The base flips (base_flips.h): each is one more step of the parameterisation, so the
-// map stays a bijection and its inverse exact; on a flat input the flattened quad is the
-// pair itself, so every point keeps its place in space; caps get narrower.
+// The base flips and splits (base_flips.h): each is one more step of the
+// parameterisation, so the map stays a bijection and its inverse exact; on a flat input
+// the flattened quad is the pair itself, so every point keeps its place in space; caps
+// get narrower.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -138,5 +139,84 @@ TEST(BaseFlips, NoFlipWhereTheSampledGridDoesNotFold) {
   const BaseFlipReport report = flipCaps(s, options);
   EXPECT_EQ(report.flips, 0);
   EXPECT_GT(report.refused, 0);
+  EXPECT_EQ(s.base.F, before);
+}
+
+namespace {
+
+// The checks every split base must pass: `splits` more vertices and twice as many more
+// faces (one split on the boundary adds one face fewer), the same topology, every base
+// vertex an input vertex where it was, and the map still a bijection whose inverse is
+// exact.
+void expectSplitBase(const TriMesh& input, const Simplification& s, Eigen::Index faces,
+                     Eigen::Index vertices, int splits) {
+  EXPECT_EQ(s.base.V.rows(), vertices + splits);
+  EXPECT_LE(s.base.F.rows(), faces + 2 * splits);
+  EXPECT_GE(s.base.F.rows(), faces + splits);
+  EXPECT_EQ(topology(s.base), topology(input));
+  validate(s.base, "split base");
+  for (int v = 0; v < input.V.rows(); ++v) {
+    if (s.baseOf[v] >= 0) {
+      EXPECT_EQ(s.base.V.row(s.baseOf[v]), input.V.row(v)) << "vertex " << v;
+    }
+  }
+  expectTracingBackIsTheIdentity(input, s);
+  expectBijection(input, s, static_cast<int>(input.F.rows() / 8));
+}
+
+int boundaryVertices(const TriMesh& m) {
+  const Connectivity c(m.F, static_cast<int>(m.V.rows()));
+  std::vector<char> rim(m.V.rows(), 0);
+  for (int h = 0; h < 3 * c.numFaces(); ++h)
+    if (c.twin(h) < 0) rim[c.from(h)] = 1;
+  return static_cast<int>(std::count(rim.begin(), rim.end(), 1));
+}
+
+}  // namespace
+
+TEST(BaseSplits, SplitsFoldingFacesAndTracingBackIsStillTheExactInverse) {
+  // A torus displaced by noise: its faces' longest edges split (input vertices made base
+  // vertices again), and the parameterisation is still a bijection with an exact inverse.
+  const TriMesh input = subdivide(shapes::torus(), 3, Scheme::Loop, 0.03, 5);
+  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
+  BaseFlipOptions options;
+  options.levels = 4;
+  options.input = &input;
+  options.maxSplits = 4;
+  const std::vector<int> folds(faces, 1);  // every face a candidate
+  const BaseFlipReport report = splitFoldingFaces(s, folds, options);
+  EXPECT_EQ(report.splits, options.maxSplits);
+  expectSplitBase(input, s, faces, vertices, report.splits);
+}
+
+TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
+  // A flat disc: where a face's longest edge is on the rim, the vertex made a base vertex
+  // is one of the rim's, so the boundary stays the input's.
+  const TriMesh input = jitteredFlatDisc();
+  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
+  const int rim = boundaryVertices(s.base);
+  BaseFlipOptions options;
+  options.levels = 3;
+  options.input = &input;
+  options.maxSplits = 40;
+  const BaseFlipReport report = splitFoldingFaces(s, std::vector<int>(faces, 1), options);
+  EXPECT_GT(report.splits, 0);
+  EXPECT_GT(boundaryVertices(s.base), rim);
+  expectSplitBase(input, s, faces, vertices, report.splits);
+}
+
+TEST(BaseSplits, NoSplitWithoutFoldsOrRoom) {
+  const TriMesh input = jitteredFlatDisc();
+  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  const Faces before = s.base.F;
+  BaseFlipOptions options;
+  options.levels = 3;
+  options.input = &input;
+  options.maxSplits = 40;
+  EXPECT_EQ(splitFoldingFaces(s, std::vector<int>(before.rows(), 0), options).splits, 0);
+  options.maxSplits = 0;
+  EXPECT_EQ(splitFoldingFaces(s, std::vector<int>(before.rows(), 1), options).splits, 0);
   EXPECT_EQ(s.base.F, before);
 }
