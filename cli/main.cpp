@@ -72,7 +72,7 @@ commands:
   remesh IN --base-faces N --levels J -o OUT [--feature-angle A]
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
                  [--stages auto|vertex|mesh] [--retriangulation shape|error]
-                 [--skinny-where-flat F] [--cap-angle A]
+                 [--skinny-where-flat F] [--cap-angle A] [--base-splits on|off]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -108,7 +108,11 @@ commands:
                                --cap-angle A flips a base edge opposite an
                                angle over A degrees where the grid sampled
                                over the two faces folds less so (default 90,
-                               0: no flips);
+                               0: no flips); where the grid still folds through
+                               both maps, the faces holding its folds are split,
+                               within 10% of N, and kept where it folds less
+                               (--base-splits off: never; lod --remesh --budget
+                               never splits);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -1,6 +1,6 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
 // --max-faces, --smoothing-sweeps, --stages, --retriangulation, --skinny-where-flat,
-// --cap-angle)
+// --cap-angle, --base-splits)
 // and those of the
 // distance it reports (--samples, --seed), read the same way by the tool and the
 // viewer.
@@ -20,7 +20,7 @@ namespace osdmra::cli {
 // all of them.
 inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
   own.insert({"base-faces", "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps",
-              "stages", "retriangulation", "skinny-where-flat", "cap-angle"});
+              "stages", "retriangulation", "skinny-where-flat", "cap-angle", "base-splits"});
   return own;
 }
 
@@ -60,6 +60,10 @@ inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false
   // the whole budget instead, where it defaults to BudgetSearchOptions' fraction.
   o.skinnyWhereFlat = args.real("skinny-where-flat", 0.0, 0.0, 1.0);
   o.capAngle = args.real("cap-angle", o.capAngle, 0.0, 180.0);
+  const std::string splits = args.get("base-splits", "on");
+  if (splits != "on" && splits != "off")
+    throw Error("--base-splits: expected on or off, got '" + splits + "'");
+  o.splitFoldingFaces = splits == "on";
   return o;
 }
 

@@ -113,6 +113,10 @@ class Flipper {
   bool onInput(const Quad& q, const std::vector<Vec2>& points, const Vec2& at, Vec3& position,
                Vec3& normal) const;
   bool movePoints(const Quad& q, std::vector<std::pair<int, Param>>& moved) const;
+  Vec2 flatPlace(const Quad& q, int f, int point) const;
+  bool relocate(const Quad& q, const std::vector<Vec2>& points,
+                const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& slots,
+                int skip, std::vector<std::pair<int, Param>>& moved) const;
   void commit(const Quad& q, const std::vector<std::pair<int, Param>>& moved);
 
   Simplification& s_;
@@ -286,18 +290,33 @@ bool Flipper::foldsLess(const Quad& q) const {
 // Every point of the pair at its place in the flipped faces: its flat position from
 // its barycentric coordinates in its old face, then located in the new ones.
 bool Flipper::movePoints(const Quad& q, std::vector<std::pair<int, Param>>& moved) const {
-  const std::vector<Vec2> points = {q.pa, q.pd, q.pb, q.pc};
-  const std::vector<std::array<int, 3>> triangles = {{0, 1, 2}, {3, 2, 1}};
-  for (int f : {q.f1, q.f2})
+  return relocate(q, {q.pa, q.pd, q.pb, q.pc}, {{0, 1, 2}, {3, 2, 1}}, {q.f1, q.f2}, -1, moved);
+}
+
+// Point `point` of base face f (one of the pair) where the pair is laid flat.
+Vec2 Flipper::flatPlace(const Quad& q, int f, int point) const {
+  const Param& p = s_.params[point];
+  Vec2 at = Vec2::Zero();
+  for (int i = 0; i < 3; ++i) at += p.bary[i] * q.flat(s_.base.F(f, i));
+  return at;
+}
+
+// Every point of the old faces but `skip`, at its flat place located in the new
+// `triangles` (corners among `points`), the i-th of which is base face slots[i].
+bool Flipper::relocate(const Quad& q, const std::vector<Vec2>& points,
+                       const std::vector<std::array<int, 3>>& triangles,
+                       const std::vector<int>& slots, int skip,
+                       std::vector<std::pair<int, Param>>& moved) const {
+  for (int f : {q.f1, q.f2}) {
+    if (f < 0) continue;
     for (int point : pointsOf_[f]) {
-      const Param& p = s_.params[point];
-      Vec2 at = Vec2::Zero();
-      for (int i = 0; i < 3; ++i) at += p.bary[i] * q.flat(s_.base.F(f, i));
+      if (point == skip) continue;
       std::array<double, 3> bary;
-      const int t = locateInTriangles(at, points, triangles, bary);
+      const int t = locateInTriangles(flatPlace(q, f, point), points, triangles, bary);
       if (t < 0) return false;
-      moved.push_back({point, {t == 0 ? q.f1 : q.f2, bary}});
+      moved.push_back({point, {slots[t], bary}});
     }
+  }
   return true;
 }
 
@@ -426,13 +445,11 @@ bool Flipper::splitPoint(const Quad& q, Split& split) const {
   for (int f : {q.f1, q.f2}) {
     if (f < 0) continue;
     for (int point : pointsOf_[f]) {
-      const Param& p = s_.params[point];
-      Vec2 at = Vec2::Zero();
+      const Vec2 at = flatPlace(q, f, point);
       double offEdge = 0;
       for (int i = 0; i < 3; ++i) {
         const int corner = s_.base.F(f, i);
-        at += p.bary[i] * q.flat(corner);
-        if (corner != q.a && corner != q.c) offEdge = p.bary[i];
+        if (corner != q.a && corner != q.c) offEdge = s_.params[point].bary[i];
       }
       if (split.onEdge != (std::abs(offEdge) < 1e-12)) continue;
       const std::array<Vec2, 5> flat = {at, q.pa, q.pb, q.pc, q.pd};
@@ -478,23 +495,8 @@ std::vector<int> Flipper::slotsOf(const Quad& q) const {
 // Every other point of the old faces at its place in the new ones.
 bool Flipper::moveSplitPoints(const Quad& q, const Split& split,
                               std::vector<std::pair<int, Param>>& moved) const {
-  const std::vector<Vec2> points = {split.at, q.pa, q.pb, q.pc, q.pd};
-  const auto fan = split.fan();
-  const auto slot = slotsOf(q);
-  for (int f : {q.f1, q.f2}) {
-    if (f < 0) continue;
-    for (int point : pointsOf_[f]) {
-      if (point == split.vertex) continue;
-      const Param& p = s_.params[point];
-      Vec2 at = Vec2::Zero();
-      for (int i = 0; i < 3; ++i) at += p.bary[i] * q.flat(s_.base.F(f, i));
-      std::array<double, 3> bary;
-      const int t = locateInTriangles(at, points, fan, bary);
-      if (t < 0) return false;
-      moved.push_back({point, {slot[t], bary}});
-    }
-  }
-  return true;
+  return relocate(q, {split.at, q.pa, q.pb, q.pc, q.pd}, split.fan(), slotsOf(q), split.vertex,
+                  moved);
 }
 
 // Whether a new face would meet a base face in space that the old ones did not meet.

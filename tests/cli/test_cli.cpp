@@ -352,6 +352,9 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(unsmoothed.out.find("\"straightened_defects\": 0, \"exact_defects\": -1}"),
             std::string::npos)
       << unsmoothed.out;
+  EXPECT_NE(unsmoothed.out.find("\"base_splits\": {\"made\": 0, \"refused\": 0}"),
+            std::string::npos)
+      << unsmoothed.out;
   // An option out of its range is refused, naming the option, and nothing is written.
   auto rejects = [&](const std::string& option, const std::string& message) {
     SCOPED_TRACE(option);
@@ -364,6 +367,7 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   // --stages takes auto, vertex or mesh, and names what it got otherwise.
   rejects("--stages edge", "--stages: expected auto, vertex or mesh, got 'edge'");
   rejects("--retriangulation fan", "--retriangulation: expected shape or error, got 'fan'");
+  rejects("--base-splits yes", "--base-splits: expected on or off, got 'yes'");
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.
