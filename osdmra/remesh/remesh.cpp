@@ -58,11 +58,12 @@ double baseEdgeLength(const TriMesh& input, int baseFaces) {
   return std::sqrt(4 * area / (std::sqrt(3.0) * baseFaces));
 }
 
-// Step 2 through one map (resample.h's GridMap), and how many grid triangles it folds
-// (flipped or of no area, as the clean-up counts them).
+// Step 2 through one map (resample.h's GridMap), which grid triangles it folds (flipped
+// or of no area, as the clean-up counts them) and how many.
 struct Sampling {
   remeshing::GridMap map = remeshing::GridMap::straightened;
   remeshing::Resampled grid;
+  std::vector<char> folded;
   long long folds = 0;
 };
 
@@ -186,14 +187,12 @@ remeshing::Simplification simplifiedWithin(const TriMesh& input, const FeatureCh
   return t;
 }
 
-// Per base face, the triangles of its grid that fold.
-std::vector<int> foldsPerBaseFace(const Sampling& sampling, const TriMesh& input,
-                                  const SurfaceWalker& walker, int levels) {
-  const std::vector<char> folded = remeshing::foldedTriangleFlags(
-      sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
+// Per base face, the triangles of its grid that fold (the grid's triangles come base
+// face by base face, 4^levels each).
+std::vector<int> foldsPerBaseFace(const Sampling& sampling, int levels) {
   const long long per = 1LL << (2 * levels);
-  std::vector<int> folds(folded.size() / per, 0);
-  for (std::size_t t = 0; t < folded.size(); ++t) folds[t / per] += folded[t];
+  std::vector<int> folds(sampling.folded.size() / per, 0);
+  for (std::size_t t = 0; t < sampling.folded.size(); ++t) folds[t / per] += sampling.folded[t];
   return folds;
 }
 
@@ -234,10 +233,13 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
   // Hausdorff 1.041x) than cleaning up the exact one only where it folds none (1.012x,
   // 1.008x), for the same 15 runs of 96 spared the clean-up (docs/REMESH.md).
   auto sample = [&](GridMap map, const Progress& p) {
-    Sampling sampling{map, resample(input, walker.connectivity(), features.list, *s, *charts,
-                                    common.levels, map, p)};
-    sampling.folds =
-        foldedTriangles(sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
+    Sampling sampling;
+    sampling.map = map;
+    sampling.grid =
+        resample(input, walker.connectivity(), features.list, *s, *charts, common.levels, map, p);
+    sampling.folded =
+        foldedTriangleFlags(sampling.grid.mesh, sampling.grid.where, input, walker.connectivity());
+    sampling.folds = std::count(sampling.folded.begin(), sampling.folded.end(), 1);
     return sampling;
   };
   Remeshing out = common;
@@ -250,9 +252,8 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
   std::optional<BaseCharts> splitCharts;
   if (first.folds > 0 && second->folds > 0 && splitRoom > 0) {
     split = simplified;
-    const BaseFlipReport report =
-        splitFoldingFaces(split, foldsPerBaseFace(first, input, walker, common.levels),
-                          splitOptions(input, common.levels, splitRoom));
+    const BaseFlipReport report = splitFoldingFaces(split, foldsPerBaseFace(first, common.levels),
+                                                    splitOptions(input, common.levels, splitRoom));
     out.baseSplitsRefused = report.splitsRefused;
     if (report.splits > 0) {
       splitCharts.emplace(split.base);

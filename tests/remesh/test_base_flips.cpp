@@ -43,6 +43,20 @@ int capsOver(const TriMesh& m, double angle) {
   return caps;
 }
 
+// `input` simplified to 40 base faces, the set-up of every test here.
+Simplification simplified40(const TriMesh& input) {
+  return simplify(input, detectFeatures(input, 70.0), 40);
+}
+
+// Flips or splits checked on grids of `levels` sampled from `input`, at most `maxSplits`.
+BaseFlipOptions checkedOn(const TriMesh& input, int levels, int maxSplits = 0) {
+  BaseFlipOptions options;
+  options.levels = levels;
+  options.input = &input;
+  options.maxSplits = maxSplits;
+  return options;
+}
+
 // A flat disc, its interior vertices moved within the plane (a base with caps).
 TriMesh jitteredFlatDisc() {
   TriMesh m = subdivide(shapes::disc(4), 3, Scheme::Linear);
@@ -63,7 +77,7 @@ TriMesh jitteredFlatDisc() {
 
 TEST(BaseFlips, OnAFlatInputEveryPointKeepsItsPlaceInSpace) {
   const TriMesh input = jitteredFlatDisc();
-  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  Simplification s = simplified40(input);
   std::vector<Vec3> before(input.V.rows());
   for (int v = 0; v < input.V.rows(); ++v) before[v] = onBase(s, v);
   const int faces = static_cast<int>(s.base.F.rows());
@@ -98,7 +112,7 @@ TEST(BaseFlips, NeverFlipsAFeatureOrBoundaryEdge) {
   // narrows flipped, each is still an edge of the base.
   for (const TriMesh& input : {subdivide(unitCube(), 3, Scheme::Linear), jitteredFlatDisc()}) {
     SCOPED_TRACE(input.F.rows());
-    Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+    Simplification s = simplified40(input);
     const Connectivity before(s.base.F, static_cast<int>(s.base.V.rows()));
     std::vector<std::uint64_t> kept;
     for (int h = 0; h < 3 * before.numFaces(); ++h) {
@@ -131,12 +145,9 @@ TEST(BaseFlips, NoFlipWhereTheSampledGridDoesNotFold) {
   // folds nowhere, so no candidate is flipped (each is refused), where without the
   // check the flips' shape alone made some.
   const TriMesh input = jitteredFlatDisc();
-  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  Simplification s = simplified40(input);
   const Faces before = s.base.F;
-  BaseFlipOptions options;
-  options.levels = 3;
-  options.input = &input;
-  const BaseFlipReport report = flipCaps(s, options);
+  const BaseFlipReport report = flipCaps(s, checkedOn(input, 3));
   EXPECT_EQ(report.flips, 0);
   EXPECT_GT(report.refused, 0);
   EXPECT_EQ(s.base.F, before);
@@ -178,12 +189,9 @@ TEST(BaseSplits, SplitsFoldingFacesAndTracingBackIsStillTheExactInverse) {
   // A torus displaced by noise: its faces' longest edges split (input vertices made base
   // vertices again), and the parameterisation is still a bijection with an exact inverse.
   const TriMesh input = subdivide(shapes::torus(), 3, Scheme::Loop, 0.03, 5);
-  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  Simplification s = simplified40(input);
   const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
-  BaseFlipOptions options;
-  options.levels = 4;
-  options.input = &input;
-  options.maxSplits = 4;
+  const BaseFlipOptions options = checkedOn(input, 4, 4);
   const std::vector<int> folds(faces, 1);  // every face a candidate
   const BaseFlipReport report = splitFoldingFaces(s, folds, options);
   EXPECT_EQ(report.splits, options.maxSplits);
@@ -194,14 +202,11 @@ TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
   // A flat disc: where a face's longest edge is on the rim, the vertex made a base vertex
   // is one of the rim's, so the boundary stays the input's.
   const TriMesh input = jitteredFlatDisc();
-  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  Simplification s = simplified40(input);
   const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
   const int rim = boundaryVertices(s.base);
-  BaseFlipOptions options;
-  options.levels = 3;
-  options.input = &input;
-  options.maxSplits = 40;
-  const BaseFlipReport report = splitFoldingFaces(s, std::vector<int>(faces, 1), options);
+  const BaseFlipReport report =
+      splitFoldingFaces(s, std::vector<int>(faces, 1), checkedOn(input, 3, 40));
   EXPECT_GT(report.splits, 0);
   EXPECT_GT(boundaryVertices(s.base), rim);
   expectSplitBase(input, s, faces, vertices, report.splits);
@@ -209,14 +214,11 @@ TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
 
 TEST(BaseSplits, NoSplitWithoutFoldsOrRoom) {
   const TriMesh input = jitteredFlatDisc();
-  Simplification s = simplify(input, detectFeatures(input, 70.0), 40);
+  Simplification s = simplified40(input);
   const Faces before = s.base.F;
-  BaseFlipOptions options;
-  options.levels = 3;
-  options.input = &input;
-  options.maxSplits = 40;
-  EXPECT_EQ(splitFoldingFaces(s, std::vector<int>(before.rows(), 0), options).splits, 0);
-  options.maxSplits = 0;
-  EXPECT_EQ(splitFoldingFaces(s, std::vector<int>(before.rows(), 1), options).splits, 0);
+  EXPECT_EQ(
+      splitFoldingFaces(s, std::vector<int>(before.rows(), 0), checkedOn(input, 3, 40)).splits, 0);
+  EXPECT_EQ(splitFoldingFaces(s, std::vector<int>(before.rows(), 1), checkedOn(input, 3, 0)).splits,
+            0);
   EXPECT_EQ(s.base.F, before);
 }
