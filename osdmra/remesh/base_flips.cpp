@@ -403,9 +403,11 @@ void Flipper::splitFolds(const std::vector<int>& folds, BaseFlipReport& report) 
     split.boundary = q.f2 < 0;
     split.onEdge = split.boundary || isFeature(q.a, q.c);
     std::vector<std::pair<int, Param>> moved;
-    if (!splitPoint(q, split) || !splitFoldsLess(q, split) || !moveSplitPoints(q, split, moved) ||
-        splitMakesCrossing(q, split)) {
+    const bool placed = splitPoint(q, split);
+    const bool foldsMore = placed && options_.splitFoldCheck && !splitFoldsLess(q, split);
+    if (!placed || foldsMore || !moveSplitPoints(q, split, moved) || splitMakesCrossing(q, split)) {
       ++report.splitsRefused;
+      report.splitsFoldingMore += foldsMore;
       continue;
     }
     commitSplit(q, split, moved);

@@ -46,6 +46,10 @@ struct BaseFlipOptions {
   int maxSplits = 0;
   /// As `stretch`, for the faces a split makes.
   double splitStretch = 2;
+  /// splitFoldingFaces(): a split only where the grid of `levels` splits sampled over the
+  /// new faces through the exact map folds no more than over the old (that grid is
+  /// remesh()'s other one); false: the other checks alone.
+  bool splitFoldCheck = true;
 };
 
 struct BaseFlipReport {
@@ -54,6 +58,7 @@ struct BaseFlipReport {
                           ///< no fewer folds)
   int splits = 0;         ///< caps split
   int splitsRefused = 0;  ///< caps left whole
+  int splitsFoldingMore = 0;  ///< of those, refused by splitFoldCheck alone
 };
 
 /// Flips candidates of `s.base` (never a boundary or feature edge, never making an edge
@@ -69,8 +74,9 @@ BaseFlipReport flipCaps(Simplification& s, const BaseFlipOptions& options = {});
 /// is a boundary or feature line) is made a base vertex again and those faces fanned
 /// about it, where that leaves the new faces' widest angle in space under 120 degrees or
 /// the old faces' widest, each new face within options.splitStretch of its flat shape,
-/// no new crossing of the base, and the grid of options.levels splits over the new faces
-/// (through the exact map, options.input) folding no more than over the old. Each split
+/// no new crossing of the base, and (options.splitFoldCheck) the grid of options.levels
+/// splits over the new faces (through the exact map, options.input) folding no more than
+/// over the old. Each split
 /// is recorded in `s.history` as a flip is, so the map stays a bijection; genus,
 /// boundary loops and components are kept.
 BaseFlipReport splitFoldingFaces(Simplification& s, const std::vector<int>& folds,

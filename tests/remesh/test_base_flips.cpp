@@ -198,6 +198,21 @@ TEST(BaseSplits, SplitsFoldingFacesAndTracingBackIsStillTheExactInverse) {
   expectSplitBase(input, s, faces, vertices, report.splits);
 }
 
+TEST(BaseSplits, WithoutTheFoldCheckTheMapIsStillABijection) {
+  // The check of the exact grid over the new faces is the only one dropped: the splits
+  // are still recorded steps of the parameterisation, the map a bijection with an exact
+  // inverse.
+  const TriMesh input = subdivide(shapes::torus(), 3, Scheme::Loop, 0.03, 5);
+  Simplification s = simplified40(input);
+  const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
+  BaseFlipOptions options = checkedOn(input, 4, 6);
+  options.splitFoldCheck = false;
+  const BaseFlipReport report = splitFoldingFaces(s, std::vector<int>(faces, 1), options);
+  EXPECT_EQ(report.splits, options.maxSplits);
+  EXPECT_EQ(report.splitsFoldingMore, 0);
+  expectSplitBase(input, s, faces, vertices, report.splits);
+}
+
 TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
   // A flat disc: where a face's longest edge is on the rim, the vertex made a base vertex
   // is one of the rim's, so the boundary stays the input's.
