@@ -227,11 +227,13 @@ struct GridSampler {
   }
 };
 
-// A base with faces split (base_flips.h), its charts and its straightened grid.
+// A base with faces split (base_flips.h), its charts, its straightened grid and, where
+// it was sampled to be checked, its exact one.
 struct SplitBase {
   std::unique_ptr<remeshing::Simplification> s;
   std::unique_ptr<remeshing::BaseCharts> charts;
   Sampling straightened;
+  std::optional<Sampling> exact;
 };
 
 // Where both grids fold (`straightened`, `exact`), the base faces holding the straightened
@@ -249,10 +251,10 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
                                             int room, Remeshing& out, const Progress& progress) {
   using namespace remeshing;
   std::optional<SplitBase> kept;
-  int refusedForFolds = 0;  // the unchecked splits are those checked where none is
+  int refusedForFolds = 0;  // where the check refused none, the unchecked splits are the same
   for (const bool foldCheck : {true, false}) {
     if (!foldCheck && refusedForFolds == 0) break;
-    SplitBase next{std::make_unique<Simplification>(simplified), nullptr, {}};
+    SplitBase next{std::make_unique<Simplification>(simplified), nullptr, {}, std::nullopt};
     BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
     how.splitFoldCheck = foldCheck;
     const BaseFlipReport report =
@@ -269,9 +271,10 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
       if (foldCheck) out.baseSplitsRefused += report.splits;
       continue;
     }
-    if (!foldCheck && next.straightened.folds > 0 &&
-        sample(*next.s, *next.charts, GridMap::exact, progress).folds > exact.folds)
-      continue;
+    if (!foldCheck && next.straightened.folds > 0) {
+      next.exact = sample(*next.s, *next.charts, GridMap::exact, progress);
+      if (next.exact->folds > exact.folds) continue;
+    }
     out.baseSplits = report.splits;
     kept = std::move(next);
   }
@@ -317,8 +320,9 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
     s = split->s.get();
     charts = split->charts.get();
     first = std::move(split->straightened);
-    second =
-        first.folds > 0 ? std::optional<Sampling>(sample(GridMap::exact, progress)) : std::nullopt;
+    second.reset();
+    if (first.folds > 0)
+      second = split->exact ? std::move(split->exact) : sample(GridMap::exact, progress);
     out.base = s->base;
   }
   out.straightenedFolds = first.folds;
