@@ -132,9 +132,12 @@ struct RemeshOptions {
   /// 0.0160% -> 0.0056% over 300 faces), one fewer run with defects, 22 of 96 rows
   /// changed, RMS 0.977x and Hausdorff 0.982x.
   double capAngle = 90;
-  /// Where the grid sampled through the straightened map folds, split the longest edge of
-  /// the base faces holding its folds (base_flips.h's splitFoldingFaces), while the base
-  /// stays within 10% of `baseFaces`, and keep the split base where its grid folds less.
+  /// Where the grids sampled through both maps fold, split the longest edge of the base
+  /// faces holding the straightened grid's folds (base_flips.h's splitFoldingFaces), while
+  /// the base stays within 10% of `baseFaces`, and keep the split base where its grid folds
+  /// less; where a split was refused for the exact grid's folds over its new faces, try
+  /// the splits again without that check, kept where the straightened grid folds less
+  /// still and folds nothing, or the exact one no more than before (docs/REMESH.md, step 3).
   bool splitFoldingFaces = true;
   /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
   /// moved a short way on the surface where that leaves fewer folds.
