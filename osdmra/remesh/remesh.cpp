@@ -250,6 +250,7 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
                                             const Sampling& straightened, const Sampling& exact,
                                             int room, Remeshing& out, const Progress& progress) {
   using namespace remeshing;
+  const std::vector<int> folds = foldsPerBaseFace(straightened, sample.levels);
   std::optional<SplitBase> kept;
   int refusedForFolds = 0;  // where the check refused none, the unchecked splits are the same
   for (const bool foldCheck : {true, false}) {
@@ -257,8 +258,7 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
     SplitBase next{std::make_unique<Simplification>(simplified), nullptr, {}, std::nullopt};
     BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
     how.splitFoldCheck = foldCheck;
-    const BaseFlipReport report =
-        splitFoldingFaces(*next.s, foldsPerBaseFace(straightened, sample.levels), how);
+    const BaseFlipReport report = splitFoldingFaces(*next.s, folds, how);
     if (foldCheck) {
       out.baseSplitsRefused = report.splitsRefused;
       refusedForFolds = report.splitsFoldingMore;
