@@ -50,6 +50,12 @@ struct BaseFlipOptions {
   /// new faces through the exact map folds no more than over the old (that grid is
   /// remesh()'s other one); false: the other checks alone.
   bool splitFoldCheck = true;
+  /// splitFoldingFaces(): where the pair about an interior edge that is no feature line
+  /// holds no input vertex that makes the new faces within the bounds, a point of the
+  /// input under a lattice of 8 steps over each face of the pair laid flat, the one
+  /// making the new faces' widest angle smallest within the same bounds, made a base
+  /// vertex (Simplification::added).
+  bool splitAtPoints = false;
 };
 
 struct BaseFlipReport {

@@ -236,6 +236,31 @@ struct SplitBase {
   std::optional<Sampling> exact;
 };
 
+// One more round of splits over `from` (the base as split by splitWhereBothFold, or
+// as simplified where it kept none), of the base faces holding the folds of its
+// straightened grid `grid`: at an input vertex or, where the pair holds none that fits,
+// at a point of the input (BaseFlipOptions::splitAtPoints), each checked not to fold the
+// exact grid over its new faces more; kept where its straightened grid folds less. After
+// the splits at input vertices, not with them: in the same trials the splits at points
+// made the cow's trial over 300 at J = 5 fold more, and its splits were lost (over the
+// 96 corpus runs of docs/REMESH.md 32 runs cleaned up and 12,321 points moved, against
+// 32 and 11,213 before; this way 31 and 11,085, the arm over 150 at J = 5 spared).
+std::optional<SplitBase> splitAtPoints(const GridSampler& sample,
+                                       const remeshing::Simplification& from, const Sampling& grid,
+                                       int room, const Progress& progress) {
+  using namespace remeshing;
+  SplitBase next{std::make_unique<Simplification>(from), nullptr, {}, std::nullopt};
+  BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
+  how.splitAtPoints = true;
+  const BaseFlipReport report =
+      splitFoldingFaces(*next.s, foldsPerBaseFace(grid, sample.levels), how);
+  if (report.splits == 0) return std::nullopt;
+  next.charts = std::make_unique<BaseCharts>(next.s->base);
+  next.straightened = sample(*next.s, *next.charts, GridMap::straightened, progress);
+  if (next.straightened.folds >= grid.folds) return std::nullopt;
+  return next;
+}
+
 // Where both grids fold (`straightened`, `exact`), the base faces holding the straightened
 // grid's folds split, twice: each split checked not to fold the exact grid over its new
 // faces more, and without that check. Each split base is sampled again and kept where
@@ -277,6 +302,18 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
     }
     out.baseSplits = report.splits;
     kept = std::move(next);
+  }
+  // Then where the grid still folds, splits at points of the input too.
+  const Simplification& from = kept ? *kept->s : simplified;
+  const Sampling& last = kept ? kept->straightened : straightened;
+  const int made = kept ? out.baseSplits : 0;
+  if (last.folds > 0 && room > made) {
+    std::optional<SplitBase> more = splitAtPoints(sample, from, last, room - made, progress);
+    if (more) {
+      out.baseSplits = made + static_cast<int>(more->s->base.V.rows() - from.base.V.rows());
+      out.baseSplitsAtPoints = static_cast<int>(more->s->added.size());
+      kept = std::move(more);
+    }
   }
   return kept;
 }

@@ -176,6 +176,9 @@ struct Remeshing {
   /// Base faces whose grid folded split, and splits refused (or undone, where the split
   /// base's grid folded no less) (RemeshOptions::splitFoldingFaces).
   int baseSplits = 0, baseSplitsRefused = 0;
+  /// Of the splits made, those at a point of the input that is no input vertex
+  /// (base_flips.h: BaseFlipOptions::splitAtPoints).
+  int baseSplitsAtPoints = 0;
   /// The map the grid was sampled through (resample.h's GridMap): the straightened
   /// one, or where that folds grid triangles and the exact one folds none, the exact
   /// one; or the other where the first one's clean-up left defects and the other's

@@ -72,8 +72,11 @@ class Resampler {
         baseConn_(s.base.F, static_cast<int>(s.base.V.rows())),
         charts_(charts) {
     inputOf_.resize(base_.V.rows());
-    for (int v = 0; v < static_cast<int>(s.baseOf.size()); ++v)
+    const int inputs = static_cast<int>(s.baseOf.size());
+    for (int v = 0; v < inputs; ++v)
       if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
+    for (std::size_t k = 0; k < s.added.size(); ++k)  // their ids in the history
+      inputOf_[s.added[k].base] = inputs + static_cast<int>(k);
     LineNeighbours along = lineNeighbours(inputConn, inputFeatures);
     alongFeature_ = std::move(along.feature);
     alongBoundary_ = std::move(along.boundary);
@@ -458,7 +461,7 @@ bool Resampler::turnedOverCorner(int v, const std::vector<int>& points,
 // over, and spreading there folded the ogre's grid more (docs/REMESH.md).
 void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
   const int x = inputOf_[v], nbv = static_cast<int>(base_.V.rows());
-  if (baseConn_.isBoundaryVertex(v) || !baseConn_.isManifoldVertex(v) ||
+  if (x >= input_.V.rows() || baseConn_.isBoundaryVertex(v) || !baseConn_.isManifoldVertex(v) ||
       inputConn_.isBoundaryVertex(x) || !inputConn_.isManifoldVertex(x))
     return;
   const std::vector<int> points = nextToVertex(v);
@@ -502,12 +505,23 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
     }
   out_.free.assign(nbv, 0);
   out_.line.assign(nbv, -1);
+  // Added base vertices (base_flips.h) are points of the input, placed as grid points are.
+  std::vector<Vec3> addedAt(s_.added.size());
+  for (std::size_t k = 0; k < s_.added.size(); ++k) {
+    const int v = s_.added[k].base, f = baseConn_.fan(v)[0] / 3;
+    Job job;
+    job.face = f;
+    for (int i = 0; i < 3; ++i) job.bary[i] = base_.F(f, i) == v ? 1.0 : 0.0;
+    place(job, map, out_.where[v], addedAt[k]);
+  }
   for (int f = 0; f < nb; ++f) gridOfFace(f);
   // The grid points, each independent of the others.
   const int n = static_cast<int>(jobs_.size());
   out_.where.resize(nbv + jobs_.size());
   out_.mesh.V.resize(nbv + n, 3);
   out_.mesh.V.topRows(nbv) = base_.V;
+  for (std::size_t k = 0; k < s_.added.size(); ++k)
+    out_.mesh.V.row(s_.added[k].base) = addedAt[k].transpose();
   std::vector<Vec3> positions(jobs_.size());
   const int chunks = numChunks(n, 1 << 12);
   constexpr int kSteps = 64;  // progress reports, and the pieces each chunk works in

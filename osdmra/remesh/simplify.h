@@ -102,6 +102,15 @@ struct Simplification {
   int stage = 0;   ///< the last stage of kStages used (by the mesh, or by one vertex)
   /// Why the base has more faces than asked, if it has: empty otherwise.
   std::string stopReason;
+  /// Base vertices that are no input vertex, made by base splits where the pair of faces
+  /// held no input vertex to make one (base_flips.h): the k-th is vertex
+  /// baseOf.size() + k of history.faces, base vertex `base`, at input point `at` (the
+  /// exact map's image of its place).
+  struct Added {
+    int base = -1;
+    SurfacePoint at;
+  };
+  std::vector<Added> added;
 };
 
 /// How simplify() goes about it, beyond its stages.

@@ -352,7 +352,7 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(unsmoothed.out.find("\"straightened_defects\": 0, \"exact_defects\": -1}"),
             std::string::npos)
       << unsmoothed.out;
-  EXPECT_NE(unsmoothed.out.find("\"base_splits\": {\"made\": 0, \"refused\": 0}"),
+  EXPECT_NE(unsmoothed.out.find("\"base_splits\": {\"made\": 0, \"refused\": 0, \"at_points\": 0}"),
             std::string::npos)
       << unsmoothed.out;
   // An option out of its range is refused, naming the option, and nothing is written.

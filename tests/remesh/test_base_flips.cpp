@@ -213,6 +213,55 @@ TEST(BaseSplits, WithoutTheFoldCheckTheMapIsStillABijection) {
   expectSplitBase(input, s, faces, vertices, report.splits);
 }
 
+namespace {
+
+Vec3 pointOn(const TriMesh& m, const SurfacePoint& p) {
+  Vec3 at = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) at += p.bary[i] * m.V.row(m.F(p.triangle, i)).transpose();
+  return at;
+}
+
+}  // namespace
+
+TEST(BaseSplits, WhereThePairHoldsNoInputVertexAPointOfTheInputIsMadeOne) {
+  // A coarse torus (256 faces) simplified to 40: many pairs of base faces hold no input
+  // vertex that fits, so splits are made at points of the input (Simplification::added),
+  // which the history maps as any other: the base vertex lies where the exact map puts
+  // its corner from each of its faces, at no input vertex, and the map is still a
+  // bijection with an exact inverse.
+  const TriMesh input = shapes::torus(16, 8);
+  Simplification s = simplified40(input);
+  const Eigen::Index faces = s.base.F.rows(), vertices = s.base.V.rows();
+  BaseFlipOptions options = checkedOn(input, 3, 6);
+  options.splitAtPoints = true;
+  const std::vector<int> folds(faces, 1);
+  Simplification without = s;
+  const BaseFlipReport report = splitFoldingFaces(s, folds, options);
+  ASSERT_FALSE(s.added.empty());
+  expectSplitBase(input, s, faces, vertices, report.splits);
+  for (std::size_t k = 0; k < s.added.size(); ++k) {
+    const auto& added = s.added[k];
+    const Vec3 at = pointOn(input, added.at);
+    EXPECT_EQ(s.base.V.row(added.base).transpose(), at);
+    EXPECT_LT(*std::max_element(added.at.bary.begin(), added.at.bary.end()), 1 - 1e-9);
+    int seen = 0;
+    for (Eigen::Index f = 0; f < s.base.F.rows(); ++f)
+      for (int i = 0; i < 3; ++i) {
+        if (s.base.F(f, i) != added.base) continue;
+        std::array<double, 3> corner{};
+        corner[i] = 1;
+        const Vec3 traced = pointOn(input, traceToInput(s.history, static_cast<int>(f), corner));
+        EXPECT_LT((traced - at).norm(), 1e-9) << "added vertex " << k << ", base face " << f;
+        ++seen;
+      }
+    EXPECT_GE(seen, 3);
+  }
+  // Without the option the same candidates split at input vertices alone.
+  options.splitAtPoints = false;
+  splitFoldingFaces(without, folds, options);
+  EXPECT_TRUE(without.added.empty());
+}
+
 TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
   // A flat disc: where a face's longest edge is on the rim, the vertex made a base vertex
   // is one of the rim's, so the boundary stays the input's.

@@ -7,6 +7,7 @@
 
 #include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/self_intersection.h"
+#include "osdmra/remesh/base_flips.h"
 #include "osdmra/remesh/features.h"
 #include "osdmra/remesh/resample.h"
 #include "osdmra/remesh/simplify.h"
@@ -87,6 +88,39 @@ TEST(Resample, GridPointsLieOnTheInputWhereTheyWereSampled) {
     }
     // The base vertices come first and are input vertices.
     for (Eigen::Index v = 0; v < r.s.base.V.rows(); ++v) EXPECT_EQ(m.V.row(v), r.s.base.V.row(v));
+  }
+}
+
+// A base vertex that is no input vertex (a split at a point of the input, base_flips.h)
+// is placed through the map as a grid point is: on the input, shared by its faces'
+// grids, and through the exact map where the split put it.
+TEST(Resample, AnAddedBaseVertexIsPlacedAsAGridPointIs) {
+  const TriMesh input = shapes::torus(16, 8);
+  const Features features = detectFeatures(input, 70.0);
+  Simplification s = simplify(input, features, 40);
+  BaseFlipOptions options;
+  options.levels = 3;
+  options.input = &input;
+  options.maxSplits = 6;
+  options.splitAtPoints = true;
+  splitFoldingFaces(s, std::vector<int>(s.base.F.rows(), 1), options);
+  ASSERT_FALSE(s.added.empty());
+  const Connectivity conn(input.F, static_cast<int>(input.V.rows()));
+  for (GridMap map : kMaps) {
+    SCOPED_TRACE(static_cast<int>(map));
+    const Resampled grid = resample(input, conn, features.list, s, BaseCharts(s.base), 3, map);
+    validate(grid.mesh, "resampled");
+    EXPECT_EQ(topology(grid.mesh), topology(input));
+    for (Eigen::Index v = 0; v < grid.mesh.V.rows(); ++v) {
+      const SurfacePoint& w = grid.where[v];
+      ASSERT_GE(w.triangle, 0);
+      Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
+      for (int k = 0; k < 3; ++k) x += w.bary[k] * input.V.row(input.F(w.triangle, k));
+      EXPECT_LT((x - grid.mesh.V.row(v)).norm(), 1e-12) << "vertex " << v;
+    }
+    if (map != GridMap::exact) continue;
+    for (const auto& added : s.added)
+      EXPECT_LT((grid.mesh.V.row(added.base) - s.base.V.row(added.base)).norm(), 1e-9);
   }
 }
 
