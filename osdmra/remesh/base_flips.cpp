@@ -367,8 +367,10 @@ void Flipper::commit(const Quad& q, const std::vector<std::pair<int, Param>>& mo
     pointsOf_[param.face].push_back(point);
   }
   // A kept vertex's place is a corner of one of its faces: re-pointed where that face
-  // no longer has it.
+  // no longer has it (a point of the input made a base vertex by a split has none).
+  const int inputs = static_cast<int>(s_.baseOf.size());
   for (int v : {q.a, q.b, q.c, q.d}) {
+    if (inputOf_[v] >= inputs) continue;
     Param& p = s_.params[inputOf_[v]];
     if (p.face != q.f1 && p.face != q.f2) continue;
     p.face = facesOf_[v].front();

@@ -260,6 +260,12 @@ TEST(BaseSplits, WhereThePairHoldsNoInputVertexAPointOfTheInputIsMadeOne) {
   options.splitAtPoints = false;
   splitFoldingFaces(without, folds, options);
   EXPECT_TRUE(without.added.empty());
+  // Flips over such a base (by shape alone) keep the map's inverse exact too.
+  const Eigen::Index added = static_cast<Eigen::Index>(s.added.size());
+  EXPECT_GT(flipCaps(s).flips, 0);
+  EXPECT_EQ(static_cast<Eigen::Index>(s.added.size()), added);
+  expectTracingBackIsTheIdentity(input, s);
+  validate(s.base, "flipped split base");
 }
 
 TEST(BaseSplits, ABoundaryEdgeIsSplitAtAVertexOfItsLine) {
