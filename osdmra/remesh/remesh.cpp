@@ -268,8 +268,9 @@ std::optional<SplitBase> splitAtPoints(const GridSampler& sample,
 // or the exact one, the clean-up's other grid, folds no more than before. Over the 96
 // corpus runs of docs/REMESH.md the unchecked splits spared the clean-up two runs more
 // (fertility over 150), and, without the exact grid's bound, left decimated-max over
-// 600 at J = 5 to the exact grid's clean-up (951 -> 4,807 points moved). Records the
-// splits made and refused in `out`.
+// 600 at J = 5 to the exact grid's clean-up (951 -> 4,807 points moved). Then, where
+// the grid kept still folds, one more round (splitAtPoints). Records the splits made,
+// those at points and those refused in `out`.
 std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
                                             const remeshing::Simplification& simplified,
                                             const Sampling& straightened, const Sampling& exact,
