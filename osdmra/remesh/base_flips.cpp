@@ -62,13 +62,8 @@ std::array<T, 3> corners(const std::array<int, 3>& local, const std::array<T, 5>
 
 class Flipper {
  public:
-  Flipper(Simplification& s, const BaseFlipOptions& options) : s_(s), options_(options) {
-    const int n = static_cast<int>(s.baseOf.size());
-    inputOf_.assign(s.base.V.rows(), -1);
-    for (int v = 0; v < n; ++v)
-      if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
-    for (std::size_t k = 0; k < s.added.size(); ++k)
-      inputOf_[s.added[k].base] = n + static_cast<int>(k);
+  Flipper(Simplification& s, const BaseFlipOptions& options)
+      : s_(s), options_(options), inputOf_(historyIdsOfBase(s)) {
     indexFaces();
   }
 
@@ -128,7 +123,7 @@ class Flipper {
 
   Simplification& s_;
   const BaseFlipOptions& options_;
-  std::vector<int> inputOf_;                 // base vertex -> input vertex
+  std::vector<int> inputOf_;  // base vertex -> its id in the history (historyIdsOfBase)
   std::vector<std::vector<int>> pointsOf_;   // base face -> the input points it holds
   std::vector<std::vector<int>> facesOf_;    // base vertex -> its faces
   std::unordered_set<std::uint64_t> edges_;  // every base edge, as a key

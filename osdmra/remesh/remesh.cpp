@@ -236,6 +236,22 @@ struct SplitBase {
   std::optional<Sampling> exact;
 };
 
+// A copy of `from` whose base faces with `folds` are split as `how` says
+// (splitFoldingFaces, its report in `report`), with its charts and straightened grid;
+// none where no split was made.
+std::optional<SplitBase> splitCopy(const GridSampler& sample, const remeshing::Simplification& from,
+                                   const std::vector<int>& folds,
+                                   const remeshing::BaseFlipOptions& how,
+                                   remeshing::BaseFlipReport& report, const Progress& progress) {
+  using namespace remeshing;
+  SplitBase next{std::make_unique<Simplification>(from), nullptr, {}, std::nullopt};
+  report = splitFoldingFaces(*next.s, folds, how);
+  if (report.splits == 0) return std::nullopt;
+  next.charts = std::make_unique<BaseCharts>(next.s->base);
+  next.straightened = sample(*next.s, *next.charts, GridMap::straightened, progress);
+  return next;
+}
+
 // One more round of splits over `from` (the base as split by splitWhereBothFold, or
 // as simplified where it kept none), of the base faces holding the folds of its
 // straightened grid `grid`: at an input vertex or, where the pair holds none that fits,
@@ -248,16 +264,12 @@ struct SplitBase {
 std::optional<SplitBase> splitAtPoints(const GridSampler& sample,
                                        const remeshing::Simplification& from, const Sampling& grid,
                                        int room, const Progress& progress) {
-  using namespace remeshing;
-  SplitBase next{std::make_unique<Simplification>(from), nullptr, {}, std::nullopt};
-  BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
+  remeshing::BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
   how.splitAtPoints = true;
-  const BaseFlipReport report =
-      splitFoldingFaces(*next.s, foldsPerBaseFace(grid, sample.levels), how);
-  if (report.splits == 0) return std::nullopt;
-  next.charts = std::make_unique<BaseCharts>(next.s->base);
-  next.straightened = sample(*next.s, *next.charts, GridMap::straightened, progress);
-  if (next.straightened.folds >= grid.folds) return std::nullopt;
+  remeshing::BaseFlipReport report;
+  std::optional<SplitBase> next =
+      splitCopy(sample, from, foldsPerBaseFace(grid, sample.levels), how, report, progress);
+  if (next && next->straightened.folds >= grid.folds) return std::nullopt;
   return next;
 }
 
@@ -281,25 +293,23 @@ std::optional<SplitBase> splitWhereBothFold(const GridSampler& sample,
   int refusedForFolds = 0;  // where the check refused none, the unchecked splits are the same
   for (const bool foldCheck : {true, false}) {
     if (!foldCheck && refusedForFolds == 0) break;
-    SplitBase next{std::make_unique<Simplification>(simplified), nullptr, {}, std::nullopt};
     BaseFlipOptions how = splitOptions(sample.input, sample.levels, room);
     how.splitFoldCheck = foldCheck;
-    const BaseFlipReport report = splitFoldingFaces(*next.s, folds, how);
+    BaseFlipReport report;
+    std::optional<SplitBase> next = splitCopy(sample, simplified, folds, how, report, progress);
     if (foldCheck) {
       out.baseSplitsRefused = report.splitsRefused;
       refusedForFolds = report.splitsFoldingMore;
     }
-    if (report.splits == 0) continue;
-    next.charts = std::make_unique<BaseCharts>(next.s->base);
-    next.straightened = sample(*next.s, *next.charts, GridMap::straightened, progress);
+    if (!next) continue;
     const long long toBeat = kept ? kept->straightened.folds : straightened.folds;
-    if (next.straightened.folds >= toBeat) {
+    if (next->straightened.folds >= toBeat) {
       if (foldCheck) out.baseSplitsRefused += report.splits;
       continue;
     }
-    if (!foldCheck && next.straightened.folds > 0) {
-      next.exact = sample(*next.s, *next.charts, GridMap::exact, progress);
-      if (next.exact->folds > exact.folds) continue;
+    if (!foldCheck && next->straightened.folds > 0) {
+      next->exact = sample(*next->s, *next->charts, GridMap::exact, progress);
+      if (next->exact->folds > exact.folds) continue;
     }
     out.baseSplits = report.splits;
     kept = std::move(next);

@@ -137,7 +137,9 @@ struct RemeshOptions {
   /// the base stays within 10% of `baseFaces`, and keep the split base where its grid folds
   /// less; where a split was refused for the exact grid's folds over its new faces, try
   /// the splits again without that check, kept where the straightened grid folds less
-  /// still and folds nothing, or the exact one no more than before (docs/REMESH.md, step 3).
+  /// still and folds nothing, or the exact one no more than before; then, where the grid
+  /// kept still folds, one more round, at points of the input where a pair holds no
+  /// input vertex that fits (docs/REMESH.md, step 3).
   bool splitFoldingFaces = true;
   /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
   /// moved a short way on the surface where that leaves fewer folds.

@@ -70,13 +70,8 @@ class Resampler {
         s_(s),
         base_(s.base),
         baseConn_(s.base.F, static_cast<int>(s.base.V.rows())),
+        inputOf_(historyIdsOfBase(s)),
         charts_(charts) {
-    inputOf_.resize(base_.V.rows());
-    const int inputs = static_cast<int>(s.baseOf.size());
-    for (int v = 0; v < inputs; ++v)
-      if (s.baseOf[v] >= 0) inputOf_[s.baseOf[v]] = v;
-    for (std::size_t k = 0; k < s.added.size(); ++k)  // their ids in the history
-      inputOf_[s.added[k].base] = inputs + static_cast<int>(k);
     LineNeighbours along = lineNeighbours(inputConn, inputFeatures);
     alongFeature_ = std::move(along.feature);
     alongBoundary_ = std::move(along.boundary);
@@ -117,7 +112,7 @@ class Resampler {
   const Simplification& s_;
   const TriMesh& base_;
   const Connectivity baseConn_;
-  std::vector<int> inputOf_;  // base vertex -> input vertex
+  std::vector<int> inputOf_;  // base vertex -> its id in the history (historyIdsOfBase)
   std::vector<std::vector<int>> alongFeature_, alongBoundary_;
   const BaseCharts& charts_;
   // Charts over two rings of faces, where charts_ lacks a corner: made on first need (most

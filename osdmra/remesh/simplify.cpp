@@ -1021,6 +1021,16 @@ void Simplifier::result(Simplification& out) {
 
 }  // namespace
 
+std::vector<int> historyIdsOfBase(const Simplification& s) {
+  const int inputs = static_cast<int>(s.baseOf.size());
+  std::vector<int> id(s.base.V.rows(), -1);
+  for (int v = 0; v < inputs; ++v)
+    if (s.baseOf[v] >= 0) id[s.baseOf[v]] = v;
+  for (std::size_t k = 0; k < s.added.size(); ++k)
+    id[s.added[k].base] = inputs + static_cast<int>(k);
+  return id;
+}
+
 SurfacePoint traceToInput(const History& h, int baseFace, const std::array<double, 3>& bary) {
   int f = h.baseFace[baseFace];
   std::array<double, 3> b = bary;

@@ -113,6 +113,10 @@ struct Simplification {
   std::vector<Added> added;
 };
 
+/// Every base vertex's id in `s.history.faces`: its input vertex, or baseOf.size() + k
+/// for the point s.added[k].
+std::vector<int> historyIdsOfBase(const Simplification& s);
+
 /// How simplify() goes about it, beyond its stages.
 struct SimplifyOptions {
   /// Refuse a removal whose new faces would cross a live face of the mesh
