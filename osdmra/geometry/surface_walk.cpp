@@ -7,14 +7,6 @@
 
 namespace osdmra {
 
-std::array<double, 3> clampedBarycentric(std::array<double, 3> b) {
-  double sum = 0;
-  for (double& x : b) sum += x = std::max(x, 0.0);
-  if (sum <= 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  for (double& x : b) x /= sum;
-  return b;
-}
-
 bool barycentricIn(const TriMesh& mesh, int t, const Eigen::Vector3d& x,
                    std::array<double, 3>& bary) {
   const Eigen::Vector3d a = mesh.V.row(mesh.F(t, 0)).transpose(),

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -21,8 +22,15 @@ struct SurfacePoint {
 };
 
 /// Barycentric coordinates clamped into the triangle (negative ones to 0, the rest
-/// rescaled to sum 1; the centroid if none is positive).
-std::array<double, 3> clampedBarycentric(std::array<double, 3> b);
+/// rescaled to sum 1; the centroid if none is positive). Inline: the exact map's
+/// tracing calls it at every removal it undoes for every grid point.
+inline std::array<double, 3> clampedBarycentric(std::array<double, 3> b) {
+  double sum = 0;
+  for (double& x : b) sum += x = std::max(x, 0.0);
+  if (sum <= 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  for (double& x : b) x /= sum;
+  return b;
+}
 
 /// Barycentric coordinates, in face t of `mesh`, of the projection of x onto the
 /// face's plane; false if the face has no area.

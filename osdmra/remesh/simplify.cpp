@@ -1031,6 +1031,11 @@ std::vector<int> historyIdsOfBase(const Simplification& s) {
   return id;
 }
 
+namespace {
+// A barycentric coordinate above this is inside a fan triangle beyond rounding.
+constexpr double kClearOfTheSides = 1e-9;
+}  // namespace
+
 SurfacePoint traceToInput(const History& h, int baseFace, const std::array<double, 3>& bary) {
   int f = h.baseFace[baseFace];
   std::array<double, 3> b = bary;
@@ -1038,13 +1043,26 @@ SurfacePoint traceToInput(const History& h, int baseFace, const std::array<doubl
     const RemovalRecord& r = h.removals[h.removal[f]];
     const std::array<int, 3>& t = r.triangles[h.triangle[f]];
     const Vec2 at = b[0] * r.points[t[0]] + b[1] * r.points[t[1]] + b[2] * r.points[t[2]];
-    // The fan triangle (origin, points[k], points[k+1]) that holds it: old face k.
+    // The fan triangle (origin, points[k], points[k+1]) that holds it: old face k. The
+    // fan's triangles do not overlap, so one that holds it clear of its sides is the
+    // one (every other has a coordinate below zero): first the one whose wedge about
+    // the origin holds its direction, then, near a side, the one it is least outside of.
     const int m = static_cast<int>(r.oldFaces.size());
     int best = 0;
     std::array<double, 3> fan{-1e300, 0, 0};
-    for (int k = 0; k < m; ++k) {
-      const auto c = barycentric(at, Vec2::Zero(), r.points[k], r.points[k + 1]);
-      if (minOf(c) > minOf(fan)) fan = c, best = k;
+    for (int k = 0; k < m; ++k)
+      if (cross2(r.points[k], at) >= 0 && cross2(at, r.points[k + 1]) > 0) {
+        fan = barycentric(at, Vec2::Zero(), r.points[k], r.points[k + 1]);
+        best = k;
+        break;
+      }
+    if (!(minOf(fan) > kClearOfTheSides)) {
+      fan = {-1e300, 0, 0};
+      for (int k = 0; k < m; ++k) {
+        const auto c = barycentric(at, Vec2::Zero(), r.points[k], r.points[k + 1]);
+        if (minOf(c) > minOf(fan)) fan = c, best = k;
+        if (minOf(fan) > kClearOfTheSides) break;
+      }
     }
     const std::array<double, 3> on = clampedBarycentric(fan);
     const int corners[3] = {r.vertex, r.verts[best], r.verts[best + 1]};
