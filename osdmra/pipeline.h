@@ -244,13 +244,6 @@ struct BudgetSearchOptions {
   /// 42 rows closer (RMS 0.92x geometric mean, fandisk at 1% 0.63x, the elephant at 3%
   /// 0.70x), one farther by 3%, at the cost of a fourth remeshing.
   std::vector<int> divisors = {1, 2, 4, 16};
-  /// Match each trial's level of detail to the input (ApproximationOptions::
-  /// closestTarget), which it is measured against, rather than to its remeshing, whose
-  /// own error would add to its own (placements Closest and Levels). On the J = 5
-  /// remeshes of docs/LOD.md, RMS to the input 2.3-16.0% lower on 10 of the 11 rows
-  /// measured (spot at 12,310 triangles 5.95e-5 -> 5.00e-5), 2.8% higher on fandisk at
-  /// 3,072.
-  bool fitToInput = true;
   /// Remesh each base with as many levels, up to InputOptions::remeshing.levels, as
   /// keep the remeshing within kLodRemeshingFaces (or RemeshOptions::maxFaces when
   /// given), counted on the base the remesher made; off keeps InputOptions::remeshing.levels for

@@ -27,8 +27,7 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
   full_.F = h.faces(h.levels());
   full_.V = positions(fullControls_, &full_.N);
   if (options.placement == Placement::Closest || options.placement == Placement::Levels)
-    closestTarget_ =
-        std::make_unique<ClosestTarget>(options_.closestTarget ? *options_.closestTarget : full_);
+    closestTarget_ = std::make_unique<ClosestTarget>(full_);
   levelFits_.resize(d.levels);
   levelOnce_ = std::make_unique<std::once_flag[]>(static_cast<std::size_t>(d.levels));
 }

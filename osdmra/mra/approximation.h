@@ -57,11 +57,6 @@ struct ApproximationOptions {
   /// extraction).
   Placement placement = Placement::Surface;
   FitOptions fit;
-  /// The surface Placement::Closest and Placement::Levels match the level of detail to;
-  /// null: the full-resolution surface (fullResolution()). A surface that is a
-  /// remeshing of some input is measured against that input: matching to it instead
-  /// leaves out the remeshing's own error (lodForBudget gives it).
-  std::shared_ptr<const TriMesh> closestTarget;
 };
 
 class Approximator {

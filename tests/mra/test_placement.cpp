@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <random>
 #include <string>
 
@@ -318,36 +317,4 @@ TEST(Placement, WithoutNewCrossingsTakesBackWhatWouldCross) {
   const Points kept = withoutNewCrossings(F, crossed, further);
   EXPECT_EQ(kept.row(4), further.row(4));
   EXPECT_EQ(withoutNewCrossings(Faces(0, 3), from, to), to);
-}
-
-// Placement::Closest matches the level of detail to the surface it is given
-// (ApproximationOptions::closestTarget; lodForBudget gives the input it remeshed): the
-// full surface given as the target places every vertex as without one, exactly; a
-// target moved off the full surface (by 1% of the diagonal) draws the level of detail
-// to it, far closer to it than the one matched to the full surface.
-TEST(Placement, ClosestMatchesTheTargetItIsGiven) {
-  const RoughIcosahedron shape(Scheme::Linear, 3, 0.02, 5);
-  ApproximationOptions options;
-  options.placement = Placement::Closest;
-  const Approximator own(shape.bank, shape.d, options);
-  const TriMesh& full = own.fullResolution();
-  ApproximationOptions same = options, moved = options;
-  same.closestTarget = std::make_shared<const TriMesh>(full);
-  TriMesh off = full;
-  const double diagonal = (full.V.colwise().maxCoeff() - full.V.colwise().minCoeff()).norm();
-  off.V.col(0).array() += 0.01 * diagonal;
-  moved.closestTarget = std::make_shared<const TriMesh>(off);
-  const Approximator given(shape.bank, shape.d, same), follows(shape.bank, shape.d, moved);
-  DistanceOptions dist;
-  dist.samples = 5000;
-  for (long long budget : {300LL, 900LL}) {
-    const Approximation a = own.budget(budget), b = given.budget(budget),
-                        c = follows.budget(budget);
-    ASSERT_EQ(a.mesh.F, b.mesh.F);
-    EXPECT_EQ(a.mesh.V, b.mesh.V) << budget;
-    ASSERT_EQ(a.mesh.F, c.mesh.F);
-    EXPECT_LT(surfaceDistance(c.mesh, off, dist).rmsRelative,
-              0.5 * surfaceDistance(a.mesh, off, dist).rmsRelative)
-        << budget;
-  }
 }
