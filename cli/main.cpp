@@ -60,8 +60,9 @@ commands:
                                second with long thin faces where the input is
                                flat across them), a half, a quarter and a
                                sixteenth of it (and the input's own
-                               hierarchy cut, where it has one), the level of
-                               detail closest to the input kept (all reported),
+                               hierarchy cut, where it has one), each matched
+                               to the input itself (closest, levels), the level
+                               of detail closest to the input kept (all reported),
                                unless --base-faces says otherwise (each
                                with as many levels, up to 5, as keep the remeshing
                                within 2^19 faces, unless --levels); the remeshing

@@ -482,8 +482,11 @@ BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const s
                        const BudgetSearchOptions& search, const Progress& progress) {
   const std::vector<Ask> asks = checkBudget(path, budget, search);
   const auto t0 = Clock::now();
+  AnalysisOptions fitted = analysis;
+  if (search.fitToInput && !fitted.approximation.closestTarget)
+    fitted.approximation.closestTarget = std::make_shared<const TriMesh>(mesh);
   const auto run = [&](Ask ask, const Progress& p) {
-    return tryBase(mesh, repairs, path, budget, ask, input, analysis, search, p);
+    return tryBase(mesh, repairs, path, budget, ask, input, fitted, search, p);
   };
   // The first trial in this thread, reporting progress; the others beside it.
   const auto policy = search.concurrently ? std::launch::async : std::launch::deferred;
@@ -492,7 +495,7 @@ BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const s
     others.push_back(std::async(policy, run, asks[i], Progress{}));
   std::future<std::optional<Trial>> own;
   if (search.inputHierarchy)
-    own = std::async(policy, tryInputHierarchy, std::cref(mesh), std::cref(path), budget, analysis,
+    own = std::async(policy, tryInputHierarchy, std::cref(mesh), std::cref(path), budget, fitted,
                      std::cref(search));
   std::vector<Trial> trials;
   trials.push_back(run(asks[0], progress));

@@ -244,6 +244,16 @@ struct BudgetSearchOptions {
   /// 42 rows closer (RMS 0.92x geometric mean, fandisk at 1% 0.63x, the elephant at 3%
   /// 0.70x), one farther by 3%, at the cost of a fourth remeshing.
   std::vector<int> divisors = {1, 2, 4, 16};
+  /// Match each trial's level of detail to the input (ApproximationOptions::
+  /// closestTarget: at its vertices and at as many area samples of it as the remeshing
+  /// has vertices), which it is measured against, rather than to its remeshing, whose
+  /// own error would add to its own (placements Closest and Levels). docs/LOD.md,
+  /// 2026-12-01: on the five J = 5 remeshes and the head, RMS 0.925x (geometric mean
+  /// over 36 rows; spot at 12,310 triangles 5.95e-5 -> 4.80e-5; fandisk at 4,054
+  /// 1.024x); on the 16 scans (lod_scans) 0.979x, 42 of 48 rows closer, spot at 59
+  /// 1.04x farther. Matched at the input's vertices alone it was 1.037x on the scans,
+  /// whose vertices crowd.
+  bool fitToInput = true;
   /// Remesh each base with as many levels, up to InputOptions::remeshing.levels, as
   /// keep the remeshing within kLodRemeshingFaces (or RemeshOptions::maxFaces when
   /// given), counted on the base the remesher made; off keeps InputOptions::remeshing.levels for

@@ -26,8 +26,14 @@ Approximator::Approximator(const FilterBank& bank, const Decomposition& d,
     limit_ = std::make_unique<Hierarchy::LimitStencils>(h.limitStencils(h.levels()));
   full_.F = h.faces(h.levels());
   full_.V = positions(fullControls_, &full_.N);
+  // Another surface is matched at as many of its area samples as the full surface has
+  // vertices besides its own vertices (ClosestTarget): matched where its maker put them,
+  // the level of detail followed their crowds.
   if (options.placement == Placement::Closest || options.placement == Placement::Levels)
-    closestTarget_ = std::make_unique<ClosestTarget>(full_);
+    closestTarget_ = options_.closestTarget
+                         ? std::make_unique<ClosestTarget>(*options_.closestTarget,
+                                                           static_cast<int>(full_.V.rows()))
+                         : std::make_unique<ClosestTarget>(full_);
   levelFits_.resize(d.levels);
   levelOnce_ = std::make_unique<std::once_flag[]>(static_cast<std::size_t>(d.levels));
 }

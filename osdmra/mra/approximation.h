@@ -57,6 +57,13 @@ struct ApproximationOptions {
   /// extraction).
   Placement placement = Placement::Surface;
   FitOptions fit;
+  /// The surface Placement::Closest and Placement::Levels match the level of detail to;
+  /// null: the full-resolution surface (fullResolution()). A surface that is a
+  /// remeshing of some input is measured against that input: matching to it instead
+  /// leaves out the remeshing's own error (lodForBudget gives it). It is matched at
+  /// its vertices and at as many area samples of it as the full-resolution surface has
+  /// vertices (ClosestTarget).
+  std::shared_ptr<const TriMesh> closestTarget;
 };
 
 class Approximator {
@@ -107,7 +114,7 @@ class Approximator {
   std::unique_ptr<Hierarchy::LimitStencils> limit_;
   Points fullControls_;  // c^J
   TriMesh full_;
-  std::unique_ptr<ClosestTarget> closestTarget_;  ///< full_, for Closest and Levels
+  std::unique_ptr<ClosestTarget> closestTarget_;  ///< for Closest and Levels
   mutable std::vector<Points> levelFits_;         ///< Levels: per level j < J, n_j x 3
   mutable std::unique_ptr<std::once_flag[]> levelOnce_;
   mutable std::once_flag countsOnce_;

@@ -9,6 +9,7 @@
 
 #include "osdmra/base/detail/parallel.h"
 #include "osdmra/base/error.h"
+#include "osdmra/geometry/distance.h"
 #include "osdmra/geometry/normals.h"
 #include "osdmra/geometry/self_intersection.h"
 #include "osdmra/geometry/surface_walk.h"
@@ -255,8 +256,8 @@ bool onBoundary(const TriMesh& mesh, const std::vector<char>& boundary, const Cl
 
 // Where the level of detail X and the full surface are nearest each other, both ways:
 // for each level-J point L_i X, the closest point of the full surface and the unit
-// normal there; for each full vertex, the closest point of the level of detail (a face
-// and barycentric coordinates) and that face's unit normal; and which of them lie on
+// normal there; for each of its points (ClosestTarget::points), the closest point of the level of
+// detail (a face and barycentric coordinates) and that face's unit normal; and which of them lie on
 // the other surface's boundary.
 struct Matches {
   Points toFull, fullNormal;
@@ -275,11 +276,11 @@ Matches match(const Points& at, const TriMesh& lod, const std::vector<char>& lod
   Matches m{Points(at.rows(), 3),
             Points(at.rows(), 3),
             std::vector<char>(at.rows()),
-            std::vector<int>(full.V.rows()),
-            std::vector<std::array<double, 3>>(full.V.rows()),
-            Points(full.V.rows(), 3),
-            std::vector<char>(full.V.rows())};
-  Eigen::VectorXd forward(at.rows()), backward(full.V.rows());
+            std::vector<int>(target.points.rows()),
+            std::vector<std::array<double, 3>>(target.points.rows()),
+            Points(target.points.rows(), 3),
+            std::vector<char>(target.points.rows())};
+  Eigen::VectorXd forward(at.rows()), backward(target.points.rows());
   const int n = static_cast<int>(at.rows());
   forChunks(n, numChunks(n, 1 << 12), [&](int, int begin, int end) {
     for (int i = begin; i < end; ++i) {
@@ -291,10 +292,10 @@ Matches match(const Points& at, const TriMesh& lod, const std::vector<char>& lod
     }
   });
   const TriangleBvh lodBvh(lod);
-  const int nf = static_cast<int>(full.V.rows());
+  const int nf = static_cast<int>(target.points.rows());
   forChunks(nf, numChunks(nf, 1 << 12), [&](int, int begin, int end) {
     for (int v = begin; v < end; ++v) {
-      const ClosestPoint c = lodBvh.closestPoint(full.V.row(v).transpose());
+      const ClosestPoint c = lodBvh.closestPoint(target.points.row(v).transpose());
       std::array<double, 3> bary{1.0 / 3, 1.0 / 3, 1.0 / 3};
       if (barycentricIn(lod, c.face, c.point, bary)) bary = clampedBarycentric(bary);
       m.lodFace[v] = c.face;
@@ -310,10 +311,10 @@ Matches match(const Points& at, const TriMesh& lod, const std::vector<char>& lod
 
 // One Gauss-Newton step of point-to-plane matching both ways, from x: each level-J point
 // onto the full surface's tangent plane at its match, with weight w on sliding along it
-// (else a flat region lets vertices slide freely), and each full vertex onto the plane
+// (else a flat region lets vertices slide freely), and each of its points onto the plane
 // of the level of detail's face at its match; a match on either surface's boundary
 // onto the matched point itself.
-Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const TriMesh& full,
+Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const ClosestTarget& target,
                         const Points& at, const Matches& m, const Points& x,
                         const FitOptions& options) {
   NormalEquations equations(faces, static_cast<int>(x.rows()));
@@ -339,14 +340,14 @@ Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const TriMesh
     equations.add(corners, weights, count, across + w * along,
                   across * m.toFull.row(i).transpose() + w * along * at.row(i).transpose());
   }
-  for (Eigen::Index v = 0; v < full.V.rows(); ++v) {
+  for (Eigen::Index v = 0; v < target.points.rows(); ++v) {
     const Eigen::Vector3d normal = m.lodNormal.row(v).transpose();
     if (!normal.allFinite()) continue;
     const int f = m.lodFace[v];
     const Eigen::Matrix3d across = m.lodBoundary[v] ? Eigen::Matrix3d::Identity()
                                                     : Eigen::Matrix3d(normal * normal.transpose());
     equations.add({faces(f, 0), faces(f, 1), faces(f, 2)}, m.lodBary[v], 3, across,
-                  across * full.V.row(v).transpose());
+                  across * target.points.row(v).transpose());
   }
   return equations.solve(x, options);
 }
@@ -429,8 +430,13 @@ Points withoutNewCrossings(const Faces& F, const Points& from, const Points& to)
   return withoutNewCrossings(F, from, to, pairs);
 }
 
-ClosestTarget::ClosestTarget(const TriMesh& m)
-    : mesh(m), bvh(m), boundary(boundaryHalfedges(m.F, static_cast<int>(m.V.rows()))) {}
+ClosestTarget::ClosestTarget(const TriMesh& m, int samples)
+    : mesh(m), bvh(m), boundary(boundaryHalfedges(m.F, static_cast<int>(m.V.rows()))), points(m.V) {
+  if (samples <= 0) return;
+  const Points drawn = samplePoints(m, samples, 1);
+  points.conservativeResize(m.V.rows() + drawn.rows(), 3);
+  points.bottomRows(drawn.rows()) = drawn;
+}
 
 Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const ClosestTarget& target,
                           const Points& start, const FitOptions& options) {
@@ -451,8 +457,8 @@ Points fitToClosestPoints(const SparseMatrix& L, const Faces& faces, const Close
   Matches m = matchAt(x);
   CrossingPairs crossings = crossingPairs(faces, x);
   for (int round = 0; round < options.closestRounds; ++round) {
-    const Points step = stepWithoutFolds(
-        faces, reference, x, pointToPlaneStep(L, faces, target.mesh, L * x, m, x, options));
+    const Points step = stepWithoutFolds(faces, reference, x,
+                                         pointToPlaneStep(L, faces, target, L * x, m, x, options));
     CrossingPairs nextCrossings = crossings;
     const Points next = withoutNewCrossings(faces, x, step, nextCrossings);
     // A Gauss-Newton step can overshoot where matches jump (a rough surface): a round
