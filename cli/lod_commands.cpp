@@ -125,7 +125,7 @@ int cmdLod(const Argv& argv) {
     tExtract = searched->extractSeconds;
   } else {
     loaded = loadInput(in, input, opt);
-    analysed.emplace(loaded->mesh, options, in, opt.progress);
+    analysed.emplace(loaded->mesh, analysisOptionsFor(*loaded, options), in, opt.progress);
     const Approximator& approx = analysed->approximator();
     const auto t0 = Clock::now();
     x = budget > 0         ? approx.budget(budget)
@@ -184,7 +184,7 @@ int cmdSweep(const Argv& argv) {
   const int points = static_cast<int>(args.integer("points", 24, 2, 1000));
   const AnalysisOptions options = analysisOptions(args, kSweepDefaults);
   const LoadedSurface s = loadInput(in, inputOptions(args, true), opt);
-  const AnalysedSurface a(s.mesh, options, in, opt.progress);
+  const AnalysedSurface a(s.mesh, analysisOptionsFor(s, options), in, opt.progress);
   const SweepTable t = sweepTable(a, points, distanceOptions(args), opt.progress);
   writeTextFile(csv, t.csv);
   if (!plot.empty())

@@ -208,6 +208,12 @@ struct AnalysedSurface::State {
   const Hierarchy& h() const { return surface ? surface->hierarchy : *hierarchy; }
 };
 
+AnalysisOptions analysisOptionsFor(const LoadedSurface& s, AnalysisOptions options) {
+  if (s.remeshing && s.remeshing->input.F.rows() > 0 && !options.approximation.closestTarget)
+    options.approximation.closestTarget = std::make_shared<const TriMesh>(s.remeshing->input);
+  return options;
+}
+
 AnalysedSurface::AnalysedSurface(const TriMesh& mesh, const AnalysisOptions& options,
                                  const std::string& source, const Progress& progress)
     : state_(std::make_unique<State>()) {

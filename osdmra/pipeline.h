@@ -149,6 +149,12 @@ struct AnalysisOptions {
   bool norms = true;
 };
 
+/// `options` for analysing `s`: as given, and where `s` is a remeshing, its levels of
+/// detail matched to the input it was made from (ApproximationOptions::closestTarget,
+/// unless one is given), which they are measured against, as lodForBudget matches its
+/// trials' (BudgetSearchOptions::fitToInput).
+AnalysisOptions analysisOptionsFor(const LoadedSurface& s, AnalysisOptions options);
+
 /// Seconds spent in each stage of AnalysedSurface's construction.
 struct AnalysisTimes {
   double recover = 0, precompute = 0, analysis = 0, approximator = 0;

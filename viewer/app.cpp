@@ -45,11 +45,12 @@ std::shared_ptr<const Analysis> analyse(const AnalysisRequest& request,
   auto a = std::make_shared<Analysis>();
   a->request = request;
   osdmra::LoadedSurface input = osdmra::loadSurface(request.path, request.input, progress);
+  osdmra::AnalysisOptions asked;
+  asked.scheme = request.scheme;
+  asked.wavelets.rings = request.rings;
+  asked.approximation.placement = request.placement;
+  const osdmra::AnalysisOptions options = osdmra::analysisOptionsFor(input, asked);
   a->remeshing = std::move(input.remeshing);
-  osdmra::AnalysisOptions options;
-  options.scheme = request.scheme;
-  options.wavelets.rings = request.rings;
-  options.approximation.placement = request.placement;
   a->surface =
       std::make_unique<osdmra::AnalysedSurface>(input.mesh, options, request.path, progress);
   if (request.placement == osdmra::Placement::Levels) {
