@@ -325,7 +325,9 @@ TEST(BaseFacesForBudget, AQuarterOfTheBudgetAndAtLeastATetrahedron) {
 }
 
 // The input as repaired stays with the remeshing: what is made from the remeshing (a
-// level of detail) can be measured against what the user gave.
+// level of detail) can be measured against what the user gave, and is matched to it
+// (analysisOptionsFor: lod --remesh --base-faces, sweep, the viewer); a surface read as
+// it is, or a target already given, keeps its own.
 TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
   const TriMesh input = shapes::torus(27, 13);
   TempDir dir;
@@ -341,30 +343,14 @@ TEST(LoadSurface, KeepsTheRemeshedInputAsTheReference) {
   EXPECT_EQ(s.remeshing->input.F, input.F);
   EXPECT_EQ(s.remeshing->input.V, input.V);  // binary PLY is exact
   EXPECT_NE(s.mesh.F.rows(), input.F.rows());
-}
-
-// A remeshing's levels of detail are matched to the input it was made from, which they
-// are measured against (lod --remesh --base-faces, sweep, the viewer); a surface read as
-// it is, or a target already given, keeps its own.
-TEST(AnalysisOptionsFor, MatchesARemeshingToItsInput) {
-  const TriMesh input = shapes::torus(27, 13);
-  TempDir dir;
-  const std::string path = dir.file("torus.ply");
-  writeMesh(path, input);
-  InputOptions o;
-  o.remesh = true;
-  o.remeshing.baseFaces = 40;
-  o.remeshing.levels = 1;
-  o.distance.samples = 500;
-  const LoadedSurface remeshed = loadSurface(path, o), asIs = loadSurface(path);
-  const AnalysisOptions matched = analysisOptionsFor(remeshed, {});
+  const AnalysisOptions matched = analysisOptionsFor(s, {});
   ASSERT_TRUE(matched.approximation.closestTarget);
   EXPECT_EQ(matched.approximation.closestTarget->V, input.V);
   EXPECT_EQ(matched.approximation.closestTarget->F, input.F);
-  EXPECT_FALSE(analysisOptionsFor(asIs, {}).approximation.closestTarget);
+  EXPECT_FALSE(analysisOptionsFor(loadSurface(path), {}).approximation.closestTarget);
   AnalysisOptions given;
-  given.approximation.closestTarget = std::make_shared<const TriMesh>(remeshed.mesh);
-  EXPECT_EQ(analysisOptionsFor(remeshed, given).approximation.closestTarget,
+  given.approximation.closestTarget = std::make_shared<const TriMesh>(s.mesh);
+  EXPECT_EQ(analysisOptionsFor(s, given).approximation.closestTarget,
             given.approximation.closestTarget);
 }
 
