@@ -208,10 +208,21 @@ struct AnalysedSurface::State {
   const Hierarchy& h() const { return surface ? surface->hierarchy : *hierarchy; }
 };
 
-AnalysisOptions analysisOptionsFor(const LoadedSurface& s, AnalysisOptions options) {
-  if (s.remeshing && s.remeshing->input.F.rows() > 0 && !options.approximation.closestTarget)
-    options.approximation.closestTarget = std::make_shared<const TriMesh>(s.remeshing->input);
+namespace {
+
+// `options` with levels of detail matched to `input` (ApproximationOptions::closestTarget),
+// unless they are matched to another surface already.
+AnalysisOptions matchedTo(const TriMesh& input, AnalysisOptions options) {
+  if (!options.approximation.closestTarget)
+    options.approximation.closestTarget = std::make_shared<const TriMesh>(input);
   return options;
+}
+
+}  // namespace
+
+AnalysisOptions analysisOptionsFor(const LoadedSurface& s, const AnalysisOptions& options) {
+  const bool remeshed = s.remeshing && s.remeshing->input.F.rows() > 0;
+  return remeshed ? matchedTo(s.remeshing->input, options) : options;
 }
 
 AnalysedSurface::AnalysedSurface(const TriMesh& mesh, const AnalysisOptions& options,
@@ -488,9 +499,7 @@ BudgetLod lodForBudget(const TriMesh& mesh, const RemeshReport& repairs, const s
                        const BudgetSearchOptions& search, const Progress& progress) {
   const std::vector<Ask> asks = checkBudget(path, budget, search);
   const auto t0 = Clock::now();
-  AnalysisOptions fitted = analysis;
-  if (search.fitToInput && !fitted.approximation.closestTarget)
-    fitted.approximation.closestTarget = std::make_shared<const TriMesh>(mesh);
+  const AnalysisOptions fitted = search.fitToInput ? matchedTo(mesh, analysis) : analysis;
   const auto run = [&](Ask ask, const Progress& p) {
     return tryBase(mesh, repairs, path, budget, ask, input, fitted, search, p);
   };

@@ -153,7 +153,7 @@ struct AnalysisOptions {
 /// detail matched to the input it was made from (ApproximationOptions::closestTarget,
 /// unless one is given), which they are measured against, as lodForBudget matches its
 /// trials' (BudgetSearchOptions::fitToInput).
-AnalysisOptions analysisOptionsFor(const LoadedSurface& s, AnalysisOptions options);
+AnalysisOptions analysisOptionsFor(const LoadedSurface& s, const AnalysisOptions& options);
 
 /// Seconds spent in each stage of AnalysedSurface's construction.
 struct AnalysisTimes {

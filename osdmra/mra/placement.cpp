@@ -256,9 +256,9 @@ bool onBoundary(const TriMesh& mesh, const std::vector<char>& boundary, const Cl
 
 // Where the level of detail X and the full surface are nearest each other, both ways:
 // for each level-J point L_i X, the closest point of the full surface and the unit
-// normal there; for each of its points (ClosestTarget::points), the closest point of the level of
-// detail (a face and barycentric coordinates) and that face's unit normal; and which of them lie on
-// the other surface's boundary.
+// normal there; for each of the full surface's points (ClosestTarget::points), the
+// closest point of the level of detail (a face and barycentric coordinates) and that
+// face's unit normal; and which of them lie on the other surface's boundary.
 struct Matches {
   Points toFull, fullNormal;
   std::vector<char> toFullBoundary;
@@ -311,9 +311,9 @@ Matches match(const Points& at, const TriMesh& lod, const std::vector<char>& lod
 
 // One Gauss-Newton step of point-to-plane matching both ways, from x: each level-J point
 // onto the full surface's tangent plane at its match, with weight w on sliding along it
-// (else a flat region lets vertices slide freely), and each of its points onto the plane
-// of the level of detail's face at its match; a match on either surface's boundary
-// onto the matched point itself.
+// (else a flat region lets vertices slide freely), and each of the full surface's points
+// onto the plane of the level of detail's face at its match; a match on either
+// surface's boundary onto the matched point itself.
 Points pointToPlaneStep(const SparseMatrix& L, const Faces& faces, const ClosestTarget& target,
                         const Points& at, const Matches& m, const Points& x,
                         const FitOptions& options) {
