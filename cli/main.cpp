@@ -55,10 +55,12 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, five times with a
-                               budget: over a base of the budget (twice, the
-                               second with long thin faces where the input is
-                               flat across them), a half, a quarter and a
+                               --remesh as for analyze, six times with a
+                               budget: over a base of the budget (three times,
+                               the second with long thin faces where the input
+                               is flat across them, the third with those and
+                               its edges flipped where that fits the input
+                               better), a half, a quarter and a
                                sixteenth of it (and the input's own
                                hierarchy cut, where it has one), each matched
                                to the input itself (closest, levels), the level

@@ -70,8 +70,10 @@ Json remeshJson(const RemeshReport& r) {
       .add("smoothing", Json::object()
                             .add("moves", r.result.smoothingMoves)
                             .add("refused", r.result.smoothingRefused))
-      .add("base_flips",
-           Json::object().add("made", r.result.baseFlips).add("refused", r.result.baseFlipsRefused))
+      .add("base_flips", Json::object()
+                             .add("made", r.result.baseFlips)
+                             .add("refused", r.result.baseFlipsRefused)
+                             .add("towards_input", r.result.baseFlipsTowardsInput))
       .add("base_splits", Json::object()
                               .add("made", r.result.baseSplits)
                               .add("refused", r.result.baseSplitsRefused)
@@ -188,6 +190,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("rms_relative", t.rmsRelative)
                     .add("seconds", t.seconds)
                     .add("skinny_where_flat", t.skinnyWhereFlat)
+                    .add("flips_towards_input", t.flipsTowardsInput)
                     .add("input_hierarchy", t.inputHierarchy)
                     .add("kept", static_cast<int>(i) == b.chosen));
   }
@@ -197,10 +200,14 @@ Json baseTrialsJson(const BudgetLod& b) {
 void printBaseTrials(const BudgetLod& b) {
   for (std::size_t i = 0; i < b.trials.size(); ++i) {
     const BaseTrial& t = b.trials[i];
-    char asked[48];
-    std::snprintf(asked, sizeof asked,
-                  t.skinnyWhereFlat > 0 ? "%d asked, skinny where flat" : "%d asked",
-                  t.baseFacesAsked);
+    char asked[96];
+    if (t.flipsTowardsInput > 0)
+      std::snprintf(asked, sizeof asked, "%d asked, skinny where flat, %d edges flipped",
+                    t.baseFacesAsked, t.flipsTowardsInput);
+    else
+      std::snprintf(asked, sizeof asked,
+                    t.skinnyWhereFlat > 0 ? "%d asked, skinny where flat" : "%d asked",
+                    t.baseFacesAsked);
     std::printf(
         "base of %d faces (%s), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",

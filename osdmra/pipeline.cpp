@@ -384,10 +384,12 @@ void cutAndMeasure(const TriMesh& input, long long budget, const AnalysisOptions
 }
 
 // One remeshing lodForBudget tries: over `baseFaces`, with skinny faces where flat
-// (RemeshOptions::skinnyWhereFlat) or not.
+// (RemeshOptions::skinnyWhereFlat) or not, and its base's edges flipped towards the input
+// (RemeshOptions::flipTowardsInput: this stretch) or not.
 struct Ask {
   int baseFaces = 0;
   double skinnyWhereFlat = 0;
+  double flipTowardsInput = 0;
 };
 
 // The trial of `input` remeshed as `ask` says.
@@ -400,6 +402,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   if (search.stagesPerVertex) options.remeshing.stages = StageRelaxation::perVertex;
   if (search.retriangulateByError) options.remeshing.retriangulateByError = true;
   options.remeshing.skinnyWhereFlat = ask.skinnyWhereFlat;
+  options.remeshing.flipTowardsInput = ask.flipTowardsInput;
   // A level of detail within the budget may be the base itself: no splits past the size
   // asked.
   options.remeshing.splitFoldingFaces = false;
@@ -414,6 +417,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   s.seconds = secondsSince(t0);
   t.row.baseFacesAsked = baseFaces;
   t.row.skinnyWhereFlat = ask.skinnyWhereFlat;
+  t.row.flipsTowardsInput = s.remeshing->result.baseFlipsTowardsInput;
   t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
   t.row.levels = s.remeshing->result.levels;
   cutAndMeasure(input, budget, analysis, search, progress, t);
@@ -444,7 +448,8 @@ std::optional<Trial> tryInputHierarchy(const TriMesh& input, const std::string& 
 
 // The remeshings of search.divisors for `budget`, each base smaller than the one before
 // (tiny budgets give the same size for several), and the whole budget's again with
-// skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat).
+// skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat), and a third time with
+// those and its edges flipped towards the input (BudgetSearchOptions::flipTowardsInput).
 std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& search) {
   std::vector<Ask> asks;
   for (int divisor : search.divisors) {
@@ -455,6 +460,9 @@ std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& se
   const int whole = baseFacesForBudget(budget, 1);
   if (search.skinnyWhereFlat > 0 && asks.front().baseFaces == whole)
     asks.insert(asks.begin() + 1, Ask{whole, search.skinnyWhereFlat});
+  if (search.flipTowardsInput > 0 && asks.front().baseFaces == whole)
+    asks.insert(asks.begin() + (search.skinnyWhereFlat > 0 ? 2 : 1),
+                Ask{whole, search.skinnyWhereFlat, search.flipTowardsInput});
   return asks;
 }
 

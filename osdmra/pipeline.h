@@ -299,6 +299,17 @@ struct BudgetSearchOptions {
   /// face samples the surface worse (with it on every trial the lion at 500 came 1.13x
   /// farther and crossing itself).
   double skinnyWhereFlat = 0.1;
+  /// Where over 0, the whole budget is tried a third time, as the second and with its
+  /// base's edges flipped where the input points a pair holds lie nearer the flipped
+  /// faces' planes (RemeshOptions::flipTowardsInput, each new face within this stretch
+  /// of its flat shape): a data-dependent triangulation of the same vertices, whose
+  /// edges follow the surface's curvature as a quadric simplifier's do. On the 48 rows
+  /// of docs/LOD.md's scans table: RMS 0.971x (geometric mean; 24 rows closer, 2
+  /// farther), at most meshoptimizer's on all 44 rows within the budget instead of 43
+  /// (fandisk at 388 1.10 -> 0.72x), for 1.48x the time. Beside the second trial, not
+  /// instead of it: flipped, fandisk's base at 1,295 came 1.39x farther (its fit to
+  /// the points as they are is not its fit once its vertices are matched to the input).
+  double flipTowardsInput = 2;
 };
 
 /// One base size lodForBudget tried.
@@ -309,6 +320,9 @@ struct BaseTrial {
   int baseFacesAsked = 0, baseFaces = 0, levels = 0;
   /// RemeshOptions::skinnyWhereFlat of its remeshing (BudgetSearchOptions::skinnyWhereFlat).
   double skinnyWhereFlat = 0;
+  /// Base edges of its remeshing flipped towards the input
+  /// (BudgetSearchOptions::flipTowardsInput).
+  int flipsTowardsInput = 0;
   int triangles = 0;  ///< of its level of detail at the budget
   /// Pairs of its level of detail's triangles that cross without being neighbours
   /// (findSelfIntersections).

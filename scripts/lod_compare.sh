@@ -14,7 +14,7 @@
 # OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000),
 # SKIP_RUN=1 (re-use OUT's tables: only the summary and the docs are remade).
 # With --update-docs the tables replace the section between the lod-compare markers
-# of docs/LOD.md. About 40 minutes on 2 cores (lod --remesh's five remeshings per row, then CGAL's
+# of docs/LOD.md. About 40 minutes on 2 cores (lod --remesh's six remeshings per row, then CGAL's
 # simplifier, are most of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -67,10 +67,11 @@ class Flipper {
     indexFaces();
   }
 
-  BaseFlipReport run() {
+  // Sweeps of flips out of caps, or (towardsInput) towards the input.
+  BaseFlipReport run(bool towardsInput) {
     BaseFlipReport report;
     for (int sweep = 0; sweep < options_.maxSweeps; ++sweep) {
-      const int made = flipSweep(report);
+      const int made = flipSweep(report, towardsInput);
       if (made == 0) break;
     }
     return report;
@@ -91,7 +92,9 @@ class Flipper {
     return s_.featureEdges.count(edgeKey(inputOf_[a], inputOf_[b])) != 0;
   }
 
-  int flipSweep(BaseFlipReport& report);
+  int flipSweep(BaseFlipReport& report, bool towardsInput);
+  bool nearerInput(const Quad& q) const;
+  double sharpestFold(const Quad& q, const std::array<std::array<int, 3>, 2>& pair) const;
   bool quadAbout(int f1, int k, int f2, Quad& q) const;
   bool isCap(const Quad& q) const;
   bool convexAndFlat(const Quad& q) const;
@@ -130,7 +133,7 @@ class Flipper {
 };
 
 // One pass over the base's interior edges; a face flipped in it waits for the next.
-int Flipper::flipSweep(BaseFlipReport& report) {
+int Flipper::flipSweep(BaseFlipReport& report, bool towardsInput) {
   const int nf = static_cast<int>(s_.base.F.rows());
   std::unordered_map<std::uint64_t, std::vector<int>> facesOfEdge;
   edges_.clear();
@@ -148,12 +151,14 @@ int Flipper::flipSweep(BaseFlipReport& report) {
       if (pair.size() != 2) continue;
       const int f2 = pair[0] == f1 ? pair[1] : pair[0];
       Quad q;
-      if (touched[f2] || !quadAbout(f1, k, f2, q) || !isCap(q)) continue;
+      if (touched[f2] || !quadAbout(f1, k, f2, q) || !(towardsInput || isCap(q))) continue;
       std::vector<std::pair<int, Param>> moved;
       if (isFeature(q.a, q.c) || edges_.count(edgeKey(q.b, q.d)) || facesOf_[q.a].size() < 4 ||
           facesOf_[q.c].size() < 4 || !convexAndFlat(q) ||
           makesCrossing(q, s_.base.V, {{q.a, q.d, q.b}, {q.c, q.b, q.d}}) ||
-          (options_.levels > 0 && options_.input && !foldsLess(q)) || !movePoints(q, moved)) {
+          (towardsInput ? !nearerInput(q)
+                        : options_.levels > 0 && options_.input && !foldsLess(q)) ||
+          !movePoints(q, moved)) {
         ++report.refused;
         continue;
       }
@@ -288,6 +293,71 @@ bool Flipper::foldsLess(const Quad& q) const {
   if (before == 0) return false;
   const int after = foldsOver(q, {q.pa, q.pd, q.pb}) + foldsOver(q, {q.pc, q.pb, q.pd});
   return after < before;
+}
+
+// Whether the input points the pair holds lie nearer the planes of the flipped faces
+// than of the faces as they are (each point against the face its flat place falls in):
+// the triangulation of the four corners that fits the input better, as a data-dependent
+// triangulation chooses (Dyn, Levin and Rippa 1990). Each flip lowers the sum over the
+// base, so the sweeps end.
+bool Flipper::nearerInput(const Quad& q) const {
+  if (!options_.input) return false;
+  const TriMesh& in = *options_.input;
+  auto plane = [&](int u, int v, int w) {
+    const Vec3 n = (position(v) - position(u)).cross(position(w) - position(u));
+    return std::make_pair(n.normalized(), position(u));
+  };
+  const std::array<std::pair<Vec3, Vec3>, 4> planes = {plane(q.a, q.c, q.b), plane(q.c, q.a, q.d),
+                                                       plane(q.a, q.d, q.b), plane(q.c, q.b, q.d)};
+  for (const auto& [n, o] : planes)
+    if (!n.allFinite()) return false;
+  const std::vector<Vec2> flipped = {q.pa, q.pd, q.pb, q.pc};
+  const std::vector<std::array<int, 3>> faces = {{0, 1, 2}, {3, 2, 1}};
+  double before = 0, after = 0;
+  for (int t = 0; t < 2; ++t) {
+    const int f = t == 0 ? q.f1 : q.f2;
+    for (int point : pointsOf_[f]) {
+      const Vec3 x = in.V.row(point).transpose();
+      const auto& [n, o] = planes[t];
+      const double d0 = n.dot(x - o);
+      before += d0 * d0;
+      std::array<double, 3> bary;
+      const int g = locateInTriangles(flatPlace(q, f, point), flipped, faces, bary);
+      if (g < 0) return false;
+      const auto& [m, p] = planes[2 + g];
+      const double d1 = m.dot(x - p);
+      after += d1 * d1;
+    }
+  }
+  if (!(after < before * (1 - 1e-9))) return false;
+  // No new fold past a right angle, between the new faces or with a face beside them:
+  // on a coarse base of a CAD model such a flip left crossing pairs (fandisk at 129).
+  const double old = sharpestFold(q, {{{q.a, q.c, q.b}, {q.c, q.a, q.d}}});
+  const double made = sharpestFold(q, {{{q.a, q.d, q.b}, {q.c, q.b, q.d}}});
+  return made > 0 || made >= old;
+}
+
+// The least cosine between the normal of either face of `pair` (taking the place of the
+// quad's) and of the other, or of a base face sharing an edge with it.
+double Flipper::sharpestFold(const Quad& q, const std::array<std::array<int, 3>, 2>& pair) const {
+  auto normal = [&](const std::array<int, 3>& t) {
+    return (position(t[1]) - position(t[0])).cross(position(t[2]) - position(t[0])).normalized();
+  };
+  const Vec3 n0 = normal(pair[0]), n1 = normal(pair[1]);
+  double least = n0.dot(n1);
+  for (int t = 0; t < 2; ++t) {
+    const Vec3 n = t == 0 ? n0 : n1;
+    for (int i = 0; i < 3; ++i) {
+      const int u = pair[t][i], v = pair[t][(i + 1) % 3];
+      for (int g : facesOf_[u]) {
+        if (g == q.f1 || g == q.f2) continue;
+        const auto other = face(g);
+        if (std::find(other.begin(), other.end(), v) == other.end()) continue;
+        least = std::min(least, n.dot(normal(other)));
+      }
+    }
+  }
+  return least;
 }
 
 // Every point of the pair at its place in the flipped faces: its flat position from
@@ -625,7 +695,11 @@ void Flipper::indexFaces() {
 }  // namespace
 
 BaseFlipReport flipCaps(Simplification& s, const BaseFlipOptions& options) {
-  return Flipper(s, options).run();
+  return Flipper(s, options).run(false);
+}
+
+BaseFlipReport flipTowardsInput(Simplification& s, const BaseFlipOptions& options) {
+  return Flipper(s, options).run(true);
 }
 
 BaseFlipReport splitFoldingFaces(Simplification& s, const std::vector<int>& folds,

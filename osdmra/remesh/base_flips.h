@@ -74,6 +74,15 @@ struct BaseFlipReport {
 /// `s.history`.
 BaseFlipReport flipCaps(Simplification& s, const BaseFlipOptions& options = {});
 
+/// Flips edges of `s.base` (with the same guards as flipCaps, and options.stretch) where
+/// the input points the pair holds (options.input) lie nearer the planes of the flipped
+/// faces than of the faces as they are, and no face meets the new ones or their
+/// neighbours at a fold past a right angle unless one was there before: a base that fits
+/// the input better for the same vertices, for levels of detail whose coarse levels are
+/// the base (lodForBudget). Every point keeps its place in the flattened pair, so the map
+/// stays a bijection, recorded in `s.history` as flipCaps' flips are.
+BaseFlipReport flipTowardsInput(Simplification& s, const BaseFlipOptions& options);
+
 /// Splits the longest edge of base faces whose grid folds (`folds`: per base face, how many
 /// of the triangles sampled over it fold), most folds first, at most options.maxSplits
 /// times: an input vertex held by the faces about that edge (on the edge itself where it

@@ -439,6 +439,15 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
     out.baseFlips = report.flips;
     out.baseFlipsRefused = report.refused;
   }
+  // And, for a level of detail whose coarse levels are the base, where the flipped faces
+  // fit the input better (each flip lowers a sum, so the sweeps end; 16 bound the time).
+  if (options.flipTowardsInput > 0) {
+    BaseFlipOptions flips;
+    flips.stretch = options.flipTowardsInput;
+    flips.input = &input;
+    flips.maxSweeps = 16;
+    out.baseFlipsTowardsInput = flipTowardsInput(s, flips).flips;
+  }
   out.base = s.base;
 
   // Walks on the input (the clean-up's last stage) do not cross its feature lines.

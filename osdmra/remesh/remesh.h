@@ -132,6 +132,12 @@ struct RemeshOptions {
   /// 0.0160% -> 0.0056% over 300 faces), one fewer run with defects, 22 of 96 rows
   /// changed, RMS 0.977x and Hausdorff 0.982x.
   double capAngle = 90;
+  /// Then flip base edges where the input points the pair holds lie nearer the flipped
+  /// faces' planes (base_flips.h's flipTowardsInput), each new face within this
+  /// stretch of its flat shape; 0: none. lodForBudget uses it
+  /// (BudgetSearchOptions::flipTowardsInput): a level of detail whose coarse levels are
+  /// the base wants the base that fits the input best.
+  double flipTowardsInput = 0;
   /// Where the grids sampled through both maps fold, split the longest edge of the base
   /// faces holding the straightened grid's folds (base_flips.h's splitFoldingFaces), while
   /// the base stays within 10% of `baseFaces`, and keep the split base where its grid folds
@@ -175,6 +181,8 @@ struct Remeshing {
   int smoothingMoves = 0, smoothingRefused = 0;
   /// Base edges flipped out of caps, and caps left (base_flips.h).
   int baseFlips = 0, baseFlipsRefused = 0;
+  /// Base edges flipped towards the input (RemeshOptions::flipTowardsInput).
+  int baseFlipsTowardsInput = 0;
   /// Base faces whose grid folded split, and splits refused (or undone, where the split
   /// base's grid folded no less) (RemeshOptions::splitFoldingFaces).
   int baseSplits = 0, baseSplitsRefused = 0;

@@ -436,8 +436,10 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 100,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 50,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
-  // The whole budget again, with skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat).
+  // The whole budget again, with skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat),
+  // and a third time with those and its edges flipped towards the input (flipTowardsInput).
   EXPECT_NE(small.out.find("\"skinny_where_flat\": 0.1,", trials), std::string::npos) << small.out;
+  EXPECT_NE(small.out.find("\"flips_towards_input\": ", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"crossing_pairs\": 0, \"rms_relative\": ", trials), std::string::npos)
       << small.out;
   // The torus has subdivision connectivity (3 levels over 48 faces): its own hierarchy is
@@ -454,8 +456,8 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_EQ(small.out.find("\"kept\": true", kept + 1), std::string::npos) << small.out;
   EXPECT_LE(readValidMesh(path("l.obj")).F.rows(), 200);
   EXPECT_NE(small.out.find("\"warnings\": []"), std::string::npos) << small.out;
-  // --skinny-where-flat 0: no second trial over the whole budget; a fraction outside
-  // [0, 1] is refused, naming the option.
+  // --skinny-where-flat 0: no trial over the whole budget with skinny faces; a fraction
+  // outside [0, 1] is refused, naming the option.
   const Result fat = run("lod " + path("t3.obj") +
                          " --remesh --levels 2 --budget 200 --samples 2000 --skinny-where-flat 0 "
                          "--json -o " +
