@@ -200,18 +200,16 @@ Json baseTrialsJson(const BudgetLod& b) {
 void printBaseTrials(const BudgetLod& b) {
   for (std::size_t i = 0; i < b.trials.size(); ++i) {
     const BaseTrial& t = b.trials[i];
-    char asked[96];
+    // Each of the trial's options said on its own (--skinny-where-flat 0 leaves the
+    // flipped trial without skinny faces).
+    std::string asked = std::to_string(t.baseFacesAsked) + " asked";
+    if (t.skinnyWhereFlat > 0) asked += ", skinny where flat";
     if (t.flipsTowardsInput > 0)
-      std::snprintf(asked, sizeof asked, "%d asked, skinny where flat, %d edges flipped",
-                    t.baseFacesAsked, t.flipsTowardsInput);
-    else
-      std::snprintf(asked, sizeof asked,
-                    t.skinnyWhereFlat > 0 ? "%d asked, skinny where flat" : "%d asked",
-                    t.baseFacesAsked);
+      asked += ", " + std::to_string(t.flipsTowardsInput) + " edges flipped";
     std::printf(
         "base of %d faces (%s), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",
-        t.baseFaces, t.inputHierarchy ? "the input's own" : asked, t.levels, t.triangles,
+        t.baseFaces, t.inputHierarchy ? "the input's own" : asked.c_str(), t.levels, t.triangles,
         t.rmsRelative, t.seconds, t.crossingPairs > 0 ? ", crosses itself" : "",
         static_cast<int>(i) == b.chosen ? ", kept" : "");
   }
