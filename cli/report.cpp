@@ -191,6 +191,7 @@ Json baseTrialsJson(const BudgetLod& b) {
                     .add("seconds", t.seconds)
                     .add("skinny_where_flat", t.skinnyWhereFlat)
                     .add("flips_towards_input", t.flipsTowardsInput)
+                    .add("order_by_error", t.orderByError)
                     .add("input_hierarchy", t.inputHierarchy)
                     .add("kept", static_cast<int>(i) == b.chosen));
   }
@@ -206,6 +207,7 @@ void printBaseTrials(const BudgetLod& b) {
     if (t.skinnyWhereFlat > 0) asked += ", skinny where flat";
     if (t.flipsTowardsInput > 0)
       asked += ", " + std::to_string(t.flipsTowardsInput) + " edges flipped";
+    if (t.orderByError) asked += ", removals by error";
     std::printf(
         "base of %d faces (%s), J = %d: %d triangles, sampled RMS to the input "
         "%.3g (%.1f s)%s%s\n",

@@ -390,6 +390,7 @@ struct Ask {
   int baseFaces = 0;
   double skinnyWhereFlat = 0;
   double flipTowardsInput = 0;
+  bool orderByError = false;
 };
 
 // The trial of `input` remeshed as `ask` says.
@@ -403,6 +404,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   if (search.retriangulateByError) options.remeshing.retriangulateByError = true;
   options.remeshing.skinnyWhereFlat = ask.skinnyWhereFlat;
   options.remeshing.flipTowardsInput = ask.flipTowardsInput;
+  options.remeshing.orderByError = ask.orderByError;
   // A level of detail within the budget may be the base itself: no splits past the size
   // asked.
   options.remeshing.splitFoldingFaces = false;
@@ -417,6 +419,7 @@ Trial tryBase(const TriMesh& input, const RemeshReport& repairs, const std::stri
   s.seconds = secondsSince(t0);
   t.row.baseFacesAsked = baseFaces;
   t.row.skinnyWhereFlat = ask.skinnyWhereFlat;
+  t.row.orderByError = ask.orderByError;
   t.row.flipsTowardsInput = s.remeshing->result.baseFlipsTowardsInput;
   t.row.baseFaces = static_cast<int>(s.remeshing->result.base.F.rows());
   t.row.levels = s.remeshing->result.levels;
@@ -449,7 +452,9 @@ std::optional<Trial> tryInputHierarchy(const TriMesh& input, const std::string& 
 // The remeshings of search.divisors for `budget`, each base smaller than the one before
 // (tiny budgets give the same size for several), and the whole budget's again with
 // skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat), and a third time with
-// those and its edges flipped towards the input (BudgetSearchOptions::flipTowardsInput).
+// those and its edges flipped towards the input (BudgetSearchOptions::flipTowardsInput),
+// and a fourth as the third, its vertices removed in order of error
+// (BudgetSearchOptions::orderByError).
 std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& search) {
   std::vector<Ask> asks;
   for (int divisor : search.divisors) {
@@ -460,9 +465,14 @@ std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& se
   const int whole = baseFacesForBudget(budget, 1);
   if (search.skinnyWhereFlat > 0 && asks.front().baseFaces == whole)
     asks.insert(asks.begin() + 1, Ask{whole, search.skinnyWhereFlat});
-  if (search.flipTowardsInput > 0 && asks.front().baseFaces == whole)
-    asks.insert(asks.begin() + (search.skinnyWhereFlat > 0 ? 2 : 1),
+  const int flipped = search.skinnyWhereFlat > 0 ? 2 : 1;
+  if (search.flipTowardsInput > 0 && asks.front().baseFaces == whole) {
+    asks.insert(asks.begin() + flipped,
                 Ask{whole, search.skinnyWhereFlat, search.flipTowardsInput});
+    if (search.orderByError)
+      asks.insert(asks.begin() + flipped + 1,
+                  Ask{whole, search.skinnyWhereFlat, search.flipTowardsInput, true});
+  }
   return asks;
 }
 

@@ -419,6 +419,7 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
   how.stagesPerVertex = stagesPerVertex;
   how.retriangulateByError = options.retriangulateByError;
   how.skinnyWhereFlat = options.skinnyWhereFlat;
+  how.orderByError = options.orderByError;
   const Features* chosen = nullptr;
   Simplification s = simplifiedWithin(input, choice, options, how, progress, chosen);
   const Features& features = *chosen;

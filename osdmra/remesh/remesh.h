@@ -124,6 +124,11 @@ struct RemeshOptions {
   /// the fraction of a face's width its points may stray from its plane; 0, the
   /// default, never). lodForBudget uses it (BudgetSearchOptions::skinnyWhereFlat).
   double skinnyWhereFlat = 0;
+  /// Remove the input's vertices in order of the error their removal makes, as a quadric
+  /// simplifier orders its collapses (simplify.h's SimplifyOptions::orderByError), not
+  /// by one-ring area and curvature; off by default. lodForBudget uses it for one trial
+  /// (BudgetSearchOptions::orderByError).
+  bool orderByError = false;
   /// Flip a base edge opposite an angle wider than this, in degrees, where the flip
   /// narrows the pair's widest angle and the grid of `levels` splits sampled over the
   /// pair through the exact map folds less after it (base_flips.h); 0: no flips. Over

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 
 #include "osdmra/geometry/face_grid.h"
 #include "osdmra/geometry/normals.h"
@@ -55,7 +56,8 @@ class Simplifier {
         fold_(features.fold),
         stages_(stages),
         stagesPerVertex_(options.stagesPerVertex),
-        skinnyWhereFlat_(options.skinnyWhereFlat) {
+        skinnyWhereFlat_(options.skinnyWhereFlat),
+        orderByError_(options.orderByError) {
     const int n = static_cast<int>(m.V.rows());
     if (noNewCrossings_) markInputCrossings(m, options.inputCrossings);
     faces_.reserve(2 * m.F.rows());
@@ -80,7 +82,7 @@ class Simplifier {
     changedAt_.assign(n, 0);
     markTips(m, features.tip);
     along_ = lineNeighbours(Connectivity(m.F, static_cast<int>(m.V.rows())), features.list);
-    if (options.retriangulateByError) quadric_ = vertexQuadrics(m);
+    if (options.retriangulateByError || options.orderByError) quadric_ = vertexQuadrics(m);
     smallestAngle_.resize(m.F.rows());
     inputFlat_.resize(m.F.rows());
     for (Eigen::Index f = 0; f < m.F.rows(); ++f) {
@@ -113,6 +115,7 @@ class Simplifier {
   struct Candidate {
     double area, curvature;
     int v;
+    double error = 0;  // removalError, under orderByError_
   };
   std::vector<Candidate> candidates() const;
   int removeRound(int target, int round, const Progress& progress, int start);
@@ -126,6 +129,7 @@ class Simplifier {
   bool tryTriangulation(int v, Plan& p, double& worst);
   bool retriangulate(int v, Plan& p);
   double triangulationError(int v, const Plan& p) const;
+  double removalError(int v, const Ring& r) const;
   bool skinnyFacesAreFlat(const Plan& p);
   void passOnQuadric(int v, const Ring& ring);
   bool placePoints(int v, Plan& p);
@@ -174,6 +178,7 @@ class Simplifier {
   std::size_t stage_ = 0;
   bool stagesPerVertex_ = false;
   double skinnyWhereFlat_ = 0;
+  bool orderByError_ = false;
   std::vector<unsigned char> ownStage_;  // per vertex, under stagesPerVertex_
   std::size_t stageUsed_ = 0;            // the last stage a removal was made under
   int aliveFaces_ = 0, plans_ = 0;
@@ -826,9 +831,31 @@ std::vector<Simplifier::Candidate> Simplifier::candidates() const {
     }
     const double curv =
         std::abs((r.boundary ? kPi : 2 * kPi) - angles) + bending / std::max(extent, 1e-300);
-    cands.push_back({area, fold_[v] ? 0.0 : curv, v});
+    cands.push_back(
+        {area, fold_[v] ? 0.0 : curv, v, orderByError_ && !fold_[v] ? removalError(v, r) : 0.0});
   }
   return cands;
+}
+
+// SimplifyOptions::orderByError: the least error, in v's planes, of the places its
+// removal may leave the surface at: its ring's centroid (a boundary vertex's two
+// boundary neighbours' midpoint), as the ear clipping roughly does, and each ring vertex,
+// where a fan (the collapse into that corner) puts it. A cheap bound on what plan() then
+// chooses among, computed for every candidate of every round.
+double Simplifier::removalError(int v, const Ring& r) const {
+  const int m = r.numFaces();
+  const int corners = r.boundary ? m + 1 : m;
+  Vec3 centre = Vec3::Zero();
+  if (r.boundary) {
+    centre = 0.5 * (V_.row(r.verts.front()) + V_.row(r.verts.back())).transpose();
+  } else {
+    for (int k = 0; k < corners; ++k) centre += V_.row(r.verts[k]).transpose();
+    centre /= corners;
+  }
+  double least = quadric_[v](centre);
+  for (int k = 0; k < corners; ++k)
+    least = std::min(least, quadric_[v](V_.row(r.verts[k]).transpose()));
+  return std::max(least, 0.0);
 }
 
 // After a removal: every vertex within two rings of the removed one (one of its ring)
@@ -868,13 +895,12 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
     return kAreaWeight * c.area / std::max(maxArea, 1e-300) +
            (1 - kAreaWeight) * c.curvature / std::max(maxCurv, 1e-300);
   };
-  // Each priority computed once, not at every comparison of the sort.
-  std::vector<std::pair<double, int>> order;
+  // Each priority computed once, not at every comparison of the sort: the error first
+  // under orderByError_ (0 otherwise), then area and curvature.
+  std::vector<std::tuple<double, double, int>> order;
   order.reserve(cands.size());
-  for (const Candidate& c : cands) order.emplace_back(priority(c), c.v);
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first < b.first : a.second < b.second;
-  });
+  for (const Candidate& c : cands) order.emplace_back(c.error, priority(c), c.v);
+  std::sort(order.begin(), order.end());
   std::vector<int> stamp(V_.rows(), -1);
   int removedNow = 0;
   // Refused under the limits of their stage (not for topology, features or tips), and
@@ -883,7 +909,7 @@ int Simplifier::removeRound(int target, int round, const Progress& progress, int
   Ring r;  // the ring and the plan keep their lists from candidate to candidate
   Plan p;
   for (const auto& entry : order) {
-    const int v = entry.second;
+    const int v = std::get<2>(entry);
     if (aliveFaces_ <= target) break;
     if (stamp[v] == round) continue;
     if (refusedAndUnchanged(v)) continue;
@@ -926,7 +952,11 @@ void Simplifier::run(int target, const Progress& progress, Simplification& out) 
   const int start = aliveFaces_;
   int round = 0;
   while (aliveFaces_ > target) {
-    const int removedNow = removeRound(target, round++, progress, start);
+    // Under orderByError_, a round removes at most half of what is left to remove, so
+    // that the last rounds, not only the last one, go greedily by error.
+    const int excess = aliveFaces_ - target;
+    const int roundTarget = orderByError_ && excess > 4 ? aliveFaces_ - excess / 2 : target;
+    const int removedNow = removeRound(roundTarget, round++, progress, start);
     if (progress) progress("simplify", double(start - aliveFaces_) / std::max(1, start - target));
     if (removedNow > 0) continue;
     if (stage_ + 1 >= stages_.size()) break;

@@ -142,6 +142,13 @@ struct SimplifyOptions {
   /// stays as close to the input as a fat face does, while one across a bend does not
   /// (RemeshOptions::skinnyWhereFlat).
   double skinnyWhereFlat = 0;
+  /// Order each round's removals by the error they make, as a quadric simplifier orders
+  /// its collapses: the least of the removed vertex's quadric (as for
+  /// retriangulateByError) at its ring's centroid (on a boundary, the midpoint of its two
+  /// boundary neighbours) and at each ring vertex (the collapses), ties broken by the
+  /// default priority; otherwise by one-ring area and curvature, as MAPS does
+  /// (RemeshOptions::orderByError).
+  bool orderByError = false;
   /// The input's crossing pairs (findSelfIntersections), where the caller has them
   /// already (remesh() finds them once for every simplification and clean-up); found
   /// here otherwise. Read under noNewCrossings only.

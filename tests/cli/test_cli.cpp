@@ -437,9 +437,11 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 50,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
   // The whole budget again, with skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat),
-  // and a third time with those and its edges flipped towards the input (flipTowardsInput).
+  // a third time with those and its edges flipped towards the input (flipTowardsInput),
+  // and a fourth with its removals in order of error (orderByError).
   EXPECT_NE(small.out.find("\"skinny_where_flat\": 0.1,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"flips_towards_input\": ", trials), std::string::npos) << small.out;
+  EXPECT_NE(small.out.find("\"order_by_error\": true,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"crossing_pairs\": 0, \"rms_relative\": ", trials), std::string::npos)
       << small.out;
   // The torus has subdivision connectivity (3 levels over 48 faces): its own hierarchy is
