@@ -1,6 +1,7 @@
 // Step 1 of remesh.h: simplification of the input to a base mesh, tracking every input
 // vertex's place on it (MAPS, Lee et al. 1998). Vertices go in rounds of independent
-// sets, least important first (small one-ring area and curvature); each removal is
+// sets, least important first (small one-ring area and curvature; or, as an option,
+// least error first: SimplifyOptions::orderByError); each removal is
 // certified bijective (removal.h) and bounded in distortion (distortion.h), else
 // refused; so is one that would make the mesh cross itself (noNewCrossings), leave
 // one face around the tip of a protrusion of the input holding more than half of the
