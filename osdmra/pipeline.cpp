@@ -384,8 +384,9 @@ void cutAndMeasure(const TriMesh& input, long long budget, const AnalysisOptions
 }
 
 // One remeshing lodForBudget tries: over `baseFaces`, with skinny faces where flat
-// (RemeshOptions::skinnyWhereFlat) or not, and its base's edges flipped towards the input
-// (RemeshOptions::flipTowardsInput: this stretch) or not.
+// (RemeshOptions::skinnyWhereFlat) or not, its base's edges flipped towards the input
+// (RemeshOptions::flipTowardsInput: this stretch) or not, its vertices removed in order of
+// the error they make (RemeshOptions::orderByError) or not.
 struct Ask {
   int baseFaces = 0;
   double skinnyWhereFlat = 0;
@@ -453,8 +454,8 @@ std::optional<Trial> tryInputHierarchy(const TriMesh& input, const std::string& 
 // (tiny budgets give the same size for several), and the whole budget's again with
 // skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat), and a third time with
 // those and its edges flipped towards the input (BudgetSearchOptions::flipTowardsInput),
-// and a fourth as the third, its vertices removed in order of error
-// (BudgetSearchOptions::orderByError).
+// and a fourth and a fifth as the first and the second, their vertices removed in order
+// of error (BudgetSearchOptions::orderByError).
 std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& search) {
   std::vector<Ask> asks;
   for (int divisor : search.divisors) {
@@ -466,12 +467,14 @@ std::vector<Ask> remeshingsToTry(long long budget, const BudgetSearchOptions& se
   if (search.skinnyWhereFlat > 0 && asks.front().baseFaces == whole)
     asks.insert(asks.begin() + 1, Ask{whole, search.skinnyWhereFlat});
   const int flipped = search.skinnyWhereFlat > 0 ? 2 : 1;
-  if (search.flipTowardsInput > 0 && asks.front().baseFaces == whole) {
+  if (search.flipTowardsInput > 0 && asks.front().baseFaces == whole)
     asks.insert(asks.begin() + flipped,
                 Ask{whole, search.skinnyWhereFlat, search.flipTowardsInput});
-    if (search.orderByError)
-      asks.insert(asks.begin() + flipped + 1,
-                  Ask{whole, search.skinnyWhereFlat, search.flipTowardsInput, true});
+  if (search.orderByError && asks.front().baseFaces == whole) {
+    const int ordered = flipped + (search.flipTowardsInput > 0 ? 1 : 0);
+    asks.insert(asks.begin() + ordered, Ask{whole, 0, 0, true});
+    if (search.skinnyWhereFlat > 0)
+      asks.insert(asks.begin() + ordered + 1, Ask{whole, search.skinnyWhereFlat, 0, true});
   }
   return asks;
 }

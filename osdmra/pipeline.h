@@ -310,13 +310,15 @@ struct BudgetSearchOptions {
   /// instead of it: flipped, fandisk's base at 1,295 came 1.39x farther (its fit to
   /// the points as they are is not its fit once its vertices are matched to the input).
   double flipTowardsInput = 2;
-  /// Where on (and flipTowardsInput over 0), the whole budget is tried a fourth time, as
-  /// the third and with the input's vertices removed in order of the error they make
-  /// (RemeshOptions::orderByError), as a quadric simplifier chooses its collapses. On the
-  /// 48 rows of docs/LOD.md's scans table (2026-12-01): RMS 0.966x (geometric mean; 17
-  /// rows closer, none farther; the cow at 580 triangles 0.77x, the camel head at 227
-  /// 0.85x), for 1.12x the time. Beside the third trial, not instead of it: fandisk's
-  /// bases at 388 and 1,295 come farther so.
+  /// Where on, the whole budget is tried twice more, as the first and the second trial
+  /// (without and with skinny faces where flat; never flipped: flips took the head's
+  /// level of detail at 16,098 triangles from 5.7e-5 to 7.8e-5 of the diagonal) and with
+  /// the input's vertices removed in order of the error each removal makes, measured
+  /// (RemeshOptions::orderByError), as a quadric simplifier chooses its collapses: the
+  /// head's level of detail at 16,098 triangles 8.87e-5 -> 5.38e-5 (RMS; meshoptimizer
+  /// 9.10e-5, CGAL Garland-Heckbert 6.61e-5; docs/LOD.md). Beside the other trials, not
+  /// instead of them: the bases that are domains the wavelets refine, and CAD models'
+  /// flat sides, may still be better served by MAPS's order.
   bool orderByError = true;
 };
 

@@ -126,7 +126,7 @@ struct RemeshOptions {
   double skinnyWhereFlat = 0;
   /// Remove the input's vertices in order of the error their removal makes, as a quadric
   /// simplifier orders its collapses (simplify.h's SimplifyOptions::orderByError), not
-  /// by one-ring area and curvature; off by default. lodForBudget uses it for one trial
+  /// by one-ring area and curvature; off by default. lodForBudget uses it for two trials
   /// (BudgetSearchOptions::orderByError).
   bool orderByError = false;
   /// Flip a base edge opposite an angle wider than this, in degrees, where the flip

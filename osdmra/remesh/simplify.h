@@ -1,7 +1,7 @@
 // Step 1 of remesh.h: simplification of the input to a base mesh, tracking every input
 // vertex's place on it (MAPS, Lee et al. 1998). Vertices go in rounds of independent
 // sets, least important first (small one-ring area and curvature; or, as an option,
-// least error first: SimplifyOptions::orderByError); each removal is
+// least error, measured, first: SimplifyOptions::orderByError); each removal is
 // certified bijective (removal.h) and bounded in distortion (distortion.h), else
 // refused; so is one that would make the mesh cross itself (noNewCrossings), leave
 // one face around the tip of a protrusion of the input holding more than half of the
@@ -144,11 +144,16 @@ struct SimplifyOptions {
   /// (RemeshOptions::skinnyWhereFlat).
   double skinnyWhereFlat = 0;
   /// Order each round's removals by the error they make, as a quadric simplifier orders
-  /// its collapses: the least of the removed vertex's quadric (as for
-  /// retriangulateByError) at its ring's centroid (on a boundary, the midpoint of its two
-  /// boundary neighbours) and at each ring vertex (the collapses), ties broken by the
-  /// default priority; otherwise by one-ring area and curvature, as MAPS does
-  /// (RemeshOptions::orderByError).
+  /// its collapses, measured: each candidate's removal is planned, and its error is how
+  /// much farther apart the input and the mesh come, as area-weighted sums of squared
+  /// distances both ways (every input point the removal moves against its new place on
+  /// the mesh, after minus before; points of the new faces against the old faces under
+  /// them in the flattening). Each removal keeps the least such error of its certified
+  /// retriangulations, and a round goes no further down its order than the removals it
+  /// needs, so that the dearest do not go for want of cheap ones the round's independence
+  /// keeps out. Ties (folds of the input, first) broken by the default priority;
+  /// otherwise by one-ring area and curvature, as MAPS does (RemeshOptions::orderByError).
+  /// About ten times the time of MAPS's order.
   bool orderByError = false;
   /// The input's crossing pairs (findSelfIntersections), where the caller has them
   /// already (remesh() finds them once for every simplification and clean-up); found

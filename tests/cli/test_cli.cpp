@@ -438,7 +438,7 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   EXPECT_NE(small.out.find("{\"base_faces_asked\": 12,", trials), std::string::npos) << small.out;
   // The whole budget again, with skinny faces where flat (BudgetSearchOptions::skinnyWhereFlat),
   // a third time with those and its edges flipped towards the input (flipTowardsInput),
-  // and a fourth with its removals in order of error (orderByError).
+  // and a fourth and a fifth with their removals in order of error (orderByError).
   EXPECT_NE(small.out.find("\"skinny_where_flat\": 0.1,", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"flips_towards_input\": ", trials), std::string::npos) << small.out;
   EXPECT_NE(small.out.find("\"order_by_error\": true,", trials), std::string::npos) << small.out;

@@ -381,22 +381,22 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
   const long long budget = 400;
   const BudgetLod b = lodForBudget(c3.path, budget, c3.input, a, c3.search);
   // The budget, again with skinny faces where flat, a third time with those and its
-  // edges flipped towards the input, a fourth as the third with its removals in order of
-  // error, a half, a quarter and a sixteenth.
-  ASSERT_EQ(b.trials.size(), 7u);
-  const std::vector<int> asked = {400, 400, 400, 400, 200, 100, 25};
+  // edges flipped towards the input, a fourth and a fifth as the first and the second
+  // with their removals in order of error, a half, a quarter and a sixteenth.
+  ASSERT_EQ(b.trials.size(), 8u);
+  const std::vector<int> asked = {400, 400, 400, 400, 400, 200, 100, 25};
   for (std::size_t i = 0; i < asked.size(); ++i) {
     EXPECT_EQ(b.trials[i].baseFacesAsked, asked[i]);
-    EXPECT_EQ(b.trials[i].skinnyWhereFlat, i >= 1 && i <= 3 ? c3.search.skinnyWhereFlat : 0.0);
-    EXPECT_EQ(b.trials[i].orderByError, i == 3);
-    if (i != 2 && i != 3) {
+    EXPECT_EQ(b.trials[i].skinnyWhereFlat,
+              i == 1 || i == 2 || i == 4 ? c3.search.skinnyWhereFlat : 0.0);
+    EXPECT_EQ(b.trials[i].orderByError, i == 3 || i == 4);
+    if (i != 2) {
       EXPECT_EQ(b.trials[i].flipsTowardsInput, 0);
     }
   }
   EXPECT_GT(b.trials[2].flipsTowardsInput, 0);
-  EXPECT_GT(b.trials[3].flipsTowardsInput, 0);
   EXPECT_GT(c3.search.skinnyWhereFlat, 0.0);
-  ASSERT_TRUE(b.chosen >= 0 && b.chosen < 7);
+  ASSERT_TRUE(b.chosen >= 0 && b.chosen < 8);
   const BaseTrial& kept = b.trials[b.chosen];
   for (const BaseTrial& t : b.trials) {
     EXPECT_LE(t.triangles, budget);
@@ -422,14 +422,14 @@ TEST(LodForBudget, KeepsTheClosestBaseAndItsRemeshing) {
 }
 
 // Base sizes that coincide on a tiny budget (a half, a quarter and a sixteenth of 8 are
-// all the 4 faces of the smallest base) are tried once (the whole budget's four times,
+// all the 4 faces of the smallest base) are tried once (the whole budget's five times,
 // the second with skinny faces where flat, the third with those and flips towards the
-// input, the fourth as the third with its removals in order of error); a budget under 1
-// is refused.
+// input, the fourth and the fifth as the first and the second with their removals in
+// order of error); a budget under 1 is refused.
 TEST(LodForBudget, TriesCoincidingSizesOnce) {
   BudgetCase t(1, 500);
   const BudgetLod b = lodForBudget(t.path, 8, t.input, AnalysisOptions{}, t.search);
-  ASSERT_EQ(b.trials.size(), 5u);
+  ASSERT_EQ(b.trials.size(), 6u);
   EXPECT_EQ(b.trials[0].baseFacesAsked, 8);
   EXPECT_EQ(b.trials[1].baseFacesAsked, 8);
   EXPECT_GT(b.trials[1].skinnyWhereFlat, 0.0);
@@ -437,7 +437,11 @@ TEST(LodForBudget, TriesCoincidingSizesOnce) {
   EXPECT_GT(b.trials[2].skinnyWhereFlat, 0.0);
   EXPECT_EQ(b.trials[3].baseFacesAsked, 8);
   EXPECT_TRUE(b.trials[3].orderByError);
-  EXPECT_EQ(b.trials[4].baseFacesAsked, 4);
+  EXPECT_EQ(b.trials[3].skinnyWhereFlat, 0.0);
+  EXPECT_EQ(b.trials[4].baseFacesAsked, 8);
+  EXPECT_TRUE(b.trials[4].orderByError);
+  EXPECT_GT(b.trials[4].skinnyWhereFlat, 0.0);
+  EXPECT_EQ(b.trials[5].baseFacesAsked, 4);
   for (const BaseTrial& trial : b.trials)
     EXPECT_GT(trial.baseFaces, 8);  // a torus needs more: over the budget, said later
   EXPECT_EQ(b.lod.triangles(), b.trials[b.chosen].baseFaces);
@@ -452,10 +456,10 @@ TEST(LodForBudget, ConcurrentTrialsGiveTheSequentialResult) {
   const BudgetLod at = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
   t.search.concurrently = false;
   const BudgetLod after = lodForBudget(t.path, 300, t.input, AnalysisOptions{}, t.search);
-  ASSERT_EQ(at.trials.size(), 7u);  // more trials than cores
-  ASSERT_EQ(after.trials.size(), 7u);
+  ASSERT_EQ(at.trials.size(), 8u);  // more trials than cores
+  ASSERT_EQ(after.trials.size(), 8u);
   EXPECT_EQ(at.chosen, after.chosen);
-  for (std::size_t i = 0; i < 7; ++i) {
+  for (std::size_t i = 0; i < 8; ++i) {
     EXPECT_EQ(at.trials[i].baseFaces, after.trials[i].baseFaces);
     EXPECT_EQ(at.trials[i].triangles, after.trials[i].triangles);
     EXPECT_EQ(at.trials[i].rmsRelative, after.trials[i].rmsRelative);
@@ -483,7 +487,7 @@ TEST(LodForBudget, TriesTheInputsOwnHierarchy) {
   AnalysisOptions a;
   a.scheme = Scheme::Linear;
   const BudgetLod whole = lodForBudget(path, 512, io, a, search);
-  ASSERT_EQ(whole.trials.size(), 8u);  // seven remeshings, then the input's own
+  ASSERT_EQ(whole.trials.size(), 9u);  // eight remeshings, then the input's own
   const BaseTrial& own = whole.trials.back();
   EXPECT_TRUE(own.inputHierarchy);
   EXPECT_EQ(own.baseFacesAsked, 0);
@@ -491,7 +495,7 @@ TEST(LodForBudget, TriesTheInputsOwnHierarchy) {
   EXPECT_EQ(own.levels, 3);
   EXPECT_EQ(own.triangles, 512);
   EXPECT_LT(own.rmsRelative, 1e-12);  // the input itself, up to rounding
-  EXPECT_EQ(whole.chosen, 7);
+  EXPECT_EQ(whole.chosen, 8);
   EXPECT_FALSE(whole.surface.remeshing.has_value());
   EXPECT_EQ(whole.surface.mesh.F.rows(), 512);
   EXPECT_EQ(whole.lod.triangles(), 512);
@@ -512,7 +516,7 @@ TEST(LodForBudget, TriesTheInputsOwnHierarchy) {
   EXPECT_FALSE(lodForBudget(path, 6, io, a, search).trials.back().inputHierarchy);  // 8 faces
   search.inputHierarchy = false;
   const BudgetLod without = lodForBudget(path, 512, io, a, search);
-  ASSERT_EQ(without.trials.size(), 7u);
+  ASSERT_EQ(without.trials.size(), 8u);
   for (const BaseTrial& t : without.trials) EXPECT_FALSE(t.inputHierarchy);
   EXPECT_TRUE(without.surface.remeshing.has_value());
 }
