@@ -315,10 +315,9 @@ struct BudgetSearchOptions {
   /// level of detail at 16,098 triangles from 5.7e-5 to 7.8e-5 of the diagonal) and with
   /// the input's vertices removed in order of the error each removal makes, measured
   /// (RemeshOptions::orderByError), as a quadric simplifier chooses its collapses: the
-  /// head's level of detail at 16,098 triangles 8.87e-5 -> 5.38e-5 (RMS; meshoptimizer
-  /// 9.10e-5, CGAL Garland-Heckbert 6.61e-5; docs/LOD.md). Beside the other trials, not
-  /// instead of them: the bases that are domains the wavelets refine, and CAD models'
-  /// flat sides, may still be better served by MAPS's order.
+  /// head's level of detail at 16,098 triangles 8.87e-5 -> 5.40e-5 (RMS; meshoptimizer
+  /// 9.10e-5, CGAL Garland-Heckbert 6.61e-5; docs/LOD.md), for 1.5-2.5x the time of
+  /// the other trials each. Beside them, not instead of them: that was not measured.
   bool orderByError = true;
 };
 
