@@ -104,11 +104,11 @@ int cmdLod(const Argv& argv) {
   const long long budget = args.has("budget") ? args.integer("budget", 0, 1, 1LL << 40) : -1;
   const InputOptions input = inputOptions(args, true);
   // With --remesh and a budget, the base is measured rather than guessed: lodForBudget
-  // remeshes over the budget (four times, the second with skinny faces where flat, the
-  // third with those and flips towards the input, the fourth with those and its removals
-  // in order of error), a half, a quarter and a sixteenth of
-  // it (and cuts the input's own hierarchy, where it has one) and keeps the closest level
-  // of detail, unless --base-faces fixes the base (and --levels the levels).
+  // remeshes over the budget (five times: as asked; with skinny faces where flat; with
+  // those and flips towards the input; and the first two again with the input's vertices
+  // removed in order of the error each removal makes), over a half, a quarter and a
+  // sixteenth of it (and cuts the input's own hierarchy, where it has one) and keeps the
+  // closest level of detail, unless --base-faces fixes the base (and --levels the levels).
   std::optional<BudgetLod> searched;
   std::optional<LoadedSurface> loaded;
   std::optional<AnalysedSurface> analysed;

@@ -55,14 +55,14 @@ commands:
                                (re-extraction as fast as surface: the viewer,
                                sweep's default); --metric surface weighs importance
                                by area on the surface, not on the base domain;
-                               --remesh as for analyze, seven times with a
-                               budget: over a base of the budget (four times,
-                               the second with long thin faces where the input
-                               is flat across them, the third with those and
-                               its edges flipped where that fits the input
-                               better, the fourth as the third with the input's
-                               vertices removed in order of the error they
-                               make), a half, a quarter and a
+                               --remesh as for analyze, eight times with a
+                               budget: over a base of the budget (five times:
+                               as asked; with long thin faces where the input
+                               is flat across them; with those and its edges
+                               flipped where that fits the input better; the
+                               first two again with the input's vertices
+                               removed in order of the error each removal
+                               makes), a half, a quarter and a
                                sixteenth of it (and the input's own
                                hierarchy cut, where it has one), each matched
                                to the input itself (closest, levels), the level
