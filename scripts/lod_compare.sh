@@ -14,10 +14,11 @@
 # OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000),
 # SKIP_RUN=1 (re-use OUT's tables: only the summary and the docs are remade).
 # With --update-docs the tables replace the section between the lod-compare markers
-# of docs/LOD.md. About 40 minutes on 2 cores (lod --remesh's six remeshings per row, then CGAL's
-# simplifier, are most of it).
+# of docs/LOD.md. JOBS (default 2): inputs measured at once. About 2.5 hours on 2 cores
+# (lod --remesh's eight remeshings per row, several at once, are most of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/run_parts.sh
 build=${BUILD_DIR:-build-bench}
 scans=${SCANS:-../shared/data/scans}
 out=${OUT:-$build/lod-compare}
@@ -46,7 +47,8 @@ PY
   inputs+=("$mesh")
 done
 
-"$build/bench/osdmra_lod_compare" "${inputs[@]}" --samples "$samples" | tee "$out/full.md"
+# One process per input, JOBS (default 2) at a time.
+run_parts "$out/full.md" "$build/bench/osdmra_lod_compare" --samples "$samples" -- "${inputs[@]}"
 fi
 
 # Summary: per input and budget, the paper's configuration, the default, the levels

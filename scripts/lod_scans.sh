@@ -10,9 +10,10 @@
 # CGAL used when libcgal-dev is installed), SCANS (default ../shared/data/scans),
 # OUT (default $BUILD_DIR/lod-scans), SKIP_BUILD=1, SKIP_RUN=1 (re-use OUT's table).
 # With --update-docs the table replaces the section between the lod-scans markers of
-# docs/LOD.md. About 6 minutes on 2 cores.
+# docs/LOD.md. JOBS (default 2): scans measured at once.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/run_parts.sh
 build=${BUILD_DIR:-build-bench}
 scans=${SCANS:-../shared/data/scans}
 out=${OUT:-$build/lod-scans}
@@ -25,7 +26,8 @@ if [[ -z "${SKIP_BUILD:-}" ]]; then
 fi
 if [[ -z "${SKIP_RUN:-}" ]]; then
   mapfile -t inputs < <(ls "$scans"/*.obj "$scans"/*.off "$scans"/*.ply 2>/dev/null | sort)
-  "$build/bench/osdmra_lod_compare" --scans "${inputs[@]}" | tee "$out/table.md"
+  # One process per scan, JOBS (default 2) at a time.
+  run_parts "$out/table.md" "$build/bench/osdmra_lod_compare" --scans -- "${inputs[@]}"
 fi
 
 # The summary: how many rows meet issue 14's target (RMS at most meshoptimizer's, and
