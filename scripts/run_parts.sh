@@ -1,5 +1,5 @@
 # Sourced by the table scripts: run_parts TABLE CMD... -- INPUT...
-# Runs CMD INPUT once per input, JOBS at a time (default 2: each run is mostly one core),
+# Runs CMD INPUT once per input, JOBS at a time (default 2; a run's own threads aside),
 # each into TABLE.part-N (stderr into TABLE.part-N.log), then joins the parts in the
 # inputs' order into TABLE under the first part's two header lines, and prints it.
 # Fails (stopping the other runs) if any run fails.
