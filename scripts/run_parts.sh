@@ -1,7 +1,8 @@
 # Sourced by the table scripts: run_parts TABLE CMD... -- INPUT...
 # Runs CMD INPUT once per input, JOBS at a time (default 2; a run's own threads aside),
 # each into TABLE.part-N (stderr into TABLE.part-N.log), then joins the parts in the
-# inputs' order into TABLE under the first part's two header lines, and prints it.
+# inputs' order into TABLE under the first part's two header lines (their stderr, in the
+# same order, to stderr), and prints it.
 # Fails (stopping the other runs) if any run fails.
 run_parts() {
   local table=$1
@@ -28,6 +29,7 @@ run_parts() {
   done
   for i in "${!inputs[@]}"; do
     if ((i == 0)); then cat "$table.part-$i"; else tail -n +3 "$table.part-$i"; fi
+    cat "$table.part-$i.log" >&2  # each run's progress and set-up times, in order
   done >"$table"
   rm -f "$table".part-*
   cat "$table"
