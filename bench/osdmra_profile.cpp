@@ -6,9 +6,12 @@
 //   PERF_CTL_FIFO=/tmp/ctl perf record -g -D -1 --control=fifo:/tmp/ctl -o OUT.data
 //       -- build-bench/bench/osdmra_profile analyze 9 loop quasi 1 5   (one line)
 //
-// usage: osdmra_profile hierarchy|precompute|analyze|synthesize|levels J [loop|linear]
-//                       [lazy|quasi|fixed] [rings] [repetitions]
+// usage: osdmra_profile hierarchy|precompute|analyze|synthesize|budget|levels J
+//                       [loop|linear] [lazy|quasi|fixed] [rings] [repetitions] [triangles]
 // Prints the wall time of every repetition. Without PERF_CTL_FIFO it only times.
+// `budget` re-extracts a level of detail of `triangles` (default a quarter of the
+// finest level's faces) with the library's default approximation options, the
+// approximator and its triangle counts made once outside the profile.
 // `levels` breaks a Loop analysis down by level instead: the time of the P_old solve
 // (solveOldBlock) and of the whole analysisStep, the fastest over the repetitions,
 // and the BiCGSTAB iteration count per coordinate with solveOldBlock's settings.
@@ -24,6 +27,7 @@
 #include <vector>
 
 #include "osdmra/base/error.h"
+#include "osdmra/mra/approximation.h"
 #include "osdmra/mra/filter_bank.h"
 #include "osdmra/subdivision/shapes.h"
 
@@ -105,8 +109,8 @@ int levels(const TriMesh& base, int J, Scheme scheme, const WaveletOptions& w, i
 int run(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr,
-                 "usage: osdmra_profile hierarchy|precompute|analyze|synthesize|levels J "
-                 "[loop|linear] [lazy|quasi|fixed] [rings] [repetitions]\n");
+                 "usage: osdmra_profile hierarchy|precompute|analyze|synthesize|budget|levels J "
+                 "[loop|linear] [lazy|quasi|fixed] [rings] [repetitions] [triangles]\n");
     return 2;
   }
   const std::string op = argv[1];
@@ -147,12 +151,27 @@ int run(int argc, char** argv) {
     return 0;
   }
   if (op == "levels") return levels(base, J, scheme, w, reps);
-  if (op != "analyze" && op != "synthesize") throw Error("unknown operation '" + op + "'");
+  if (op != "analyze" && op != "synthesize" && op != "budget")
+    throw Error("unknown operation '" + op + "'");
   const Hierarchy h(base.F, n0, J);
   const Points V = subdivide(base, J, scheme, 0.02, 3).V;
   for (int j = 0; j < J; ++j) h.refinement(scheme, j);
   const FilterBank bank = makeFilterBank(h, scheme, w);
   const Decomposition d = analyze(bank, V);
+  if (op == "budget") {
+    const long long triangles = argc > 7 ? std::atoll(argv[7]) : h.numFaces(J) / 4;
+    const Approximator approx(bank, d);
+    approx.triangleCounts();
+    for (int rep = 0; rep < reps; ++rep) {
+      const auto t0 = Clock::now();
+      perf.enable();
+      const Approximation a = approx.budget(triangles);
+      perf.disable();
+      report(rep, t0);
+      if (rep == 0) std::printf("%d triangles\n", a.triangles());
+    }
+    return 0;
+  }
   for (int rep = 0; rep < reps; ++rep) {
     const auto t0 = Clock::now();
     perf.enable();

@@ -130,7 +130,7 @@ std::vector<int> controlTriangles(const Analysis& a, int level) {
 }
 
 std::vector<double> truncatedControls(const Analysis& a, const osdmra::KeepMask& keep, int level) {
-  const Points c = osdmra::synthesize(a.bank(), osdmra::truncate(a.d(), keep), level);
+  const Points c = osdmra::synthesizeTruncated(a.bank(), a.d(), keep, level);
   return std::vector<double>(c.data(), c.data() + c.size());
 }
 

@@ -51,7 +51,7 @@ const Points& Approximator::levelFit(int j) const {
     for (std::size_t k = 0; k < keep.size(); ++k)
       keep[k].assign(static_cast<std::size_t>(importance_[k].size()), static_cast<int>(k) < j);
     const LodMesh lod = extractLod(h, keep);
-    const Points start = positions(synthesize(bank_, truncate(d_, keep), d_.levels), nullptr)(
+    const Points start = positions(synthesizeTruncated(bank_, d_, keep, d_.levels), nullptr)(
         lod.vertices, Eigen::all);
     const SparseMatrix L = lodInterpolation(h, lod);
     const Points fit =
@@ -116,9 +116,13 @@ Approximation Approximator::make(const KeepMask& selection) const {
   Approximation a;
   a.total = numCoefficients();
   a.selected = countKept(selection);
-  a.keep = options_.saturate ? saturate(*bank_.hierarchy, selection) : selection;
+  if (options_.saturate) {
+    a.lod = extractSaturated(*bank_.hierarchy, selection, a.keep);
+  } else {
+    a.keep = selection;
+    a.lod = extractLod(*bank_.hierarchy, a.keep);
+  }
   a.kept = countKept(a.keep);
-  a.lod = extractLod(*bank_.hierarchy, a.keep);
   a.mesh.F = a.lod.compactFaces;
   // Levels looks its positions up: the truncated surface is needed only for Loop's
   // normals.
@@ -126,7 +130,7 @@ Approximation Approximator::make(const KeepMask& selection) const {
     placeByLevels(a);
     return a;
   }
-  const Points controls = synthesize(bank_, truncate(d_, a.keep), d_.levels);
+  const Points controls = synthesizeTruncated(bank_, d_, a.keep, d_.levels);
   // Only the LOD's vertices are evaluated: rows of the limit stencils (or of the
   // controls themselves for the polyhedral scheme).
   const int n = static_cast<int>(a.lod.vertices.size());
@@ -185,7 +189,7 @@ Approximation Approximator::budget(long long triangles) const {
 double Approximator::l2Error(const Approximation& a) const {
   std::call_once(l2Once_,
                  [&] { l2_ = std::make_unique<L2Distance>(*bank_.hierarchy, bank_.scheme); });
-  return (*l2_)(synthesize(bank_, truncate(d_, a.keep), d_.levels), fullControls_);
+  return (*l2_)(synthesizeTruncated(bank_, d_, a.keep, d_.levels), fullControls_);
 }
 
 }  // namespace osdmra

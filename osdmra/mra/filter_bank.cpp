@@ -122,7 +122,7 @@ Points synthesisStep(const FilterBank& bank, int j, const Points& coarse, const 
                 " coarse points and " + std::to_string(nn - n) + " details");
   const Points u = coarse - bank.alpha[j] * detail;
   Points fine(nn, 3);
-  fine = h.refinement(bank.scheme, j) * u;
+  fine.noalias() = h.refinement(bank.scheme, j) * u;
   fine.bottomRows(nn - n) += detail;
   return fine;
 }

@@ -41,12 +41,8 @@ void closeMask(const Hierarchy& h, const KeepMask& keep, Closure& closure) {
   closure.close();
 }
 
-}  // namespace
-
-LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
-  Closure closure(h);
-  closeMask(h, keep, closure);
-
+// The mesh of a closed closure.
+LodMesh walkClosure(const Hierarchy& h, Closure& closure) {
   // Walk down from the base faces through red faces only, children in order, so the
   // output is in canonical order (everything kept gives faces(J) row for row) and
   // only existing faces are visited.
@@ -109,9 +105,8 @@ LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
   return out;
 }
 
-KeepMask saturate(const Hierarchy& h, const KeepMask& keep) {
-  Closure closure(h);
-  closeMask(h, keep, closure);
+// `keep` and the coefficients its closure makes free.
+KeepMask withFreeCoefficients(const Hierarchy& h, const KeepMask& keep, const Closure& closure) {
   const int J = h.levels();
   // A coefficient whose edge has every face split already is free: seeding it marks
   // nothing new, so the closure, and with it the mesh, stay the same.
@@ -130,6 +125,27 @@ KeepMask saturate(const Hierarchy& h, const KeepMask& keep) {
     }
   }
   return out;
+}
+
+}  // namespace
+
+LodMesh extractLod(const Hierarchy& h, const KeepMask& keep) {
+  Closure closure(h);
+  closeMask(h, keep, closure);
+  return walkClosure(h, closure);
+}
+
+KeepMask saturate(const Hierarchy& h, const KeepMask& keep) {
+  Closure closure(h);
+  closeMask(h, keep, closure);
+  return withFreeCoefficients(h, keep, closure);
+}
+
+LodMesh extractSaturated(const Hierarchy& h, const KeepMask& keep, KeepMask& saturated) {
+  Closure closure(h);
+  closeMask(h, keep, closure);
+  saturated = withFreeCoefficients(h, keep, closure);
+  return walkClosure(h, closure);
 }
 
 std::vector<long long> lodTriangleCounts(const Hierarchy& h,

@@ -68,6 +68,11 @@ LodMesh extractLod(const Hierarchy& h, const KeepMask& keep);
 /// truncated surface.
 KeepMask saturate(const Hierarchy& h, const KeepMask& keep);
 
+/// extractLod(h, saturate(h, keep)), with `saturated` set to saturate(h, keep), from one
+/// closure: the free coefficients split no face that the closure of `keep` leaves
+/// whole, so both masks have the same closure and the same mesh.
+LodMesh extractSaturated(const Hierarchy& h, const KeepMask& keep, KeepMask& saturated);
+
 /// The triangle count of extractLod for every prefix of `order` at once: entry k is
 /// the count when exactly the first k coefficients (level j, index e within level j's
 /// new vertices) are kept, k = 0..order.size(). Costs about one full-resolution

@@ -100,16 +100,54 @@ long long countKept(const KeepMask& keep) {
   return n;
 }
 
-Decomposition truncate(const Decomposition& d, const KeepMask& keep) {
+namespace {
+
+void checkMask(const Decomposition& d, const KeepMask& keep) {
   if (keep.size() != d.details.size()) throw Error("truncate: mask has the wrong number of levels");
-  Decomposition out = d;
-  for (std::size_t j = 0; j < d.details.size(); ++j) {
+  for (std::size_t j = 0; j < d.details.size(); ++j)
     if (keep[j].size() != static_cast<std::size_t>(d.details[j].rows()))
       throw Error("truncate: mask of level " + std::to_string(j) + " has the wrong size");
+}
+
+}  // namespace
+
+Decomposition truncate(const Decomposition& d, const KeepMask& keep) {
+  checkMask(d, keep);
+  Decomposition out = d;
+  for (std::size_t j = 0; j < d.details.size(); ++j) {
     for (Eigen::Index i = 0; i < d.details[j].rows(); ++i)
       if (!keep[j][i]) out.details[j].row(i).setZero();
   }
   return out;
+}
+
+Points synthesizeTruncated(const FilterBank& bank, const Decomposition& d, const KeepMask& keep,
+                           int level) {
+  checkMask(d, keep);
+  if (level < 0 || level > d.levels)
+    throw Error("synthesis level " + std::to_string(level) + " is outside 0.." +
+                std::to_string(d.levels));
+  const Hierarchy& h = *bank.hierarchy;
+  Points c = d.base;
+  for (int j = 0; j < level; ++j) {
+    const Points& detail = d.details[j];
+    const std::vector<char>& kept = keep[j];
+    // u = c^j - alpha d^j (filter_bank.h), column by column and each term subtracted
+    // in turn, as Eigen evaluates the whole product: the same sums, less the zeros.
+    const AlphaMatrix& alpha = bank.alpha[j];
+    for (Eigen::Index e = 0; e < alpha.outerSize(); ++e)
+      if (kept[e])
+        for (AlphaMatrix::InnerIterator it(alpha, e); it; ++it)
+          c.row(it.index()) -= it.value() * detail.row(e);
+    // noalias: fine is not c, so the product is written in place, not through a copy.
+    Points fine(h.numVertices(j + 1), 3);
+    fine.noalias() = h.refinement(bank.scheme, j) * c;
+    const Eigen::Index n = h.numVertices(j);
+    for (std::size_t e = 0; e < kept.size(); ++e)
+      if (kept[e]) fine.row(n + static_cast<Eigen::Index>(e)) += detail.row(e);
+    c = std::move(fine);
+  }
+  return c;
 }
 
 double l2Distance(const Hierarchy& h, Scheme scheme, const Points& a, const Points& b) {

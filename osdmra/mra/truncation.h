@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "osdmra/mra/decomposition.h"
+#include "osdmra/mra/filter_bank.h"
 #include "osdmra/subdivision/hierarchy.h"
 
 namespace osdmra {
@@ -53,6 +54,13 @@ long long countKept(const KeepMask& keep);
 
 /// A copy of `d` with the coefficients outside `keep` set to zero.
 Decomposition truncate(const Decomposition& d, const KeepMask& keep);
+
+/// c^level of the truncated surface: synthesize(bank, truncate(d, keep), level) bit for
+/// bit, without copying d, and with the lifting's alpha d^j (the largest product of a
+/// synthesis step) over the kept coefficients alone, since the others are zero. A level
+/// of detail's extraction then costs the refinement products plus its own coefficients.
+Points synthesizeTruncated(const FilterBank& bank, const Decomposition& d, const KeepMask& keep,
+                           int level);
 
 /// Exact parametric L2 distance between two functions of V^J given by their level-J
 /// coefficients: sqrt(sum over x, y, z of e^T I^J e), e = a - b. Each base triangle

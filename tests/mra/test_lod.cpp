@@ -408,6 +408,15 @@ TEST(Lod, SaturateKeepsTheMeshAndIsMaximal) {
       const LodMesh lod = extractLod(s.h, keep);
       EXPECT_EQ(extractLod(s.h, full).faces, lod.faces);
       EXPECT_EQ(saturate(s.h, full), full);
+      // Both from one closure: the same mask and the same mesh, vertex for vertex.
+      KeepMask shared;
+      const LodMesh both = extractSaturated(s.h, keep, shared);
+      EXPECT_EQ(shared, full);
+      EXPECT_EQ(both.faces, lod.faces);
+      EXPECT_EQ(both.compactFaces, lod.compactFaces);
+      EXPECT_EQ(both.vertices, lod.vertices);
+      EXPECT_EQ(both.faceLevel, lod.faceLevel);
+      EXPECT_EQ(both.faceOrigin, lod.faceOrigin);
       std::mt19937 rng(8);
       for (int j = 0; j < s.J; ++j)
         for (std::size_t e = 0; e < keep[j].size(); ++e) {
