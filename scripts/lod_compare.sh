@@ -14,8 +14,9 @@
 # OUT (default $BUILD_DIR/lod-compare), SKIP_BUILD=1, SAMPLES (default 100000),
 # SKIP_RUN=1 (re-use OUT's tables: only the summary and the docs are remade).
 # With --update-docs the tables replace the section between the lod-compare markers
-# of docs/LOD.md. JOBS (default 2): inputs measured at once. About 2.5 hours on 2 cores
-# (lod --remesh's eight remeshings per row, several at once, are most of it).
+# of docs/LOD.md. JOBS (default 2): inputs measured at once. 1 h 40 min on 2 cores with
+# nothing else running (2026-12-03), hours more beside other work (lod --remesh's eight
+# remeshings per row, several at once, are most of it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/run_parts.sh
