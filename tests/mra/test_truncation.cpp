@@ -9,45 +9,67 @@
 
 using namespace osdmra;
 
+namespace {
+
+// A named shape refined J = 3 times with noise, analysed with quasi-wavelets (r = 1),
+// and its coefficients' importance: what each test below truncates. Built in place
+// (the filter bank points at the hierarchy).
+struct AnalysedShape {
+  static constexpr int J = 3;
+  AnalysedShape(const char* name, Scheme s)
+      : base(shapes::byName(name)),
+        surface(subdivide(base, J, s, 0.05, 3)),
+        h(base.F, static_cast<int>(base.V.rows()), J),
+        bank(makeFilterBank(h, s, {WaveletKind::Quasi, 1})),
+        d(analyze(bank, surface.V)),
+        imp(importance(d, bank.norms)) {
+    for (const auto& level : imp) total += level.size();
+  }
+  const TriMesh base;
+  const TriMesh surface;
+  const Hierarchy h;
+  const FilterBank bank;
+  const Decomposition d;
+  const std::vector<Eigen::VectorXd> imp;
+  long long total = 0;
+};
+
+}  // namespace
+
 TEST(Truncation, EndsAndExactL2Error) {
   for (const char* name : {"icosahedron", "cylinder"})
     for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
       SCOPED_TRACE(std::string(name) + " " + schemeName(s));
-      const TriMesh base = shapes::byName(name);
-      const int J = 3;
-      const TriMesh surface = subdivide(base, J, s, 0.05, 3);
-      Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
-      const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
-      const Decomposition d = analyze(bank, surface.V);
-      const auto imp = importance(d, bank.norms);
-      long long total = 0;
-      for (const auto& level : imp) total += level.size();
+      const AnalysedShape a(name, s);
+      const int J = AnalysedShape::J;
       // Everything kept: the input; nothing kept: the base mesh refined.
-      const KeepMask all = keepLargest(imp, total), none = keepLargest(imp, 0);
-      EXPECT_EQ(countKept(all), total);
+      const KeepMask all = keepLargest(a.imp, a.total), none = keepLargest(a.imp, 0);
+      EXPECT_EQ(countKept(all), a.total);
       EXPECT_EQ(countKept(none), 0);
-      EXPECT_LT((synthesize(bank, truncate(d, all), J) - surface.V).cwiseAbs().maxCoeff(), 1e-12);
-      Points coarse = d.base;
-      for (int j = 0; j < J; ++j) coarse = h.refinement(s, j) * coarse;
-      EXPECT_LT((synthesize(bank, truncate(d, none), J) - coarse).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((synthesize(a.bank, truncate(a.d, all), J) - a.surface.V).cwiseAbs().maxCoeff(),
+                1e-12);
+      Points coarse = a.d.base;
+      for (int j = 0; j < J; ++j) coarse = a.h.refinement(s, j) * coarse;
+      EXPECT_LT((synthesize(a.bank, truncate(a.d, none), J) - coarse).cwiseAbs().maxCoeff(), 1e-12);
       // keepAbove and keepLargest agree at the k-th largest importance.
-      const KeepMask half = keepLargest(imp, total / 2);
+      const KeepMask half = keepLargest(a.imp, a.total / 2);
       double threshold = 1e300;
-      for (std::size_t j = 0; j < imp.size(); ++j)
-        for (Eigen::Index i = 0; i < imp[j].size(); ++i)
-          if (half[j][i]) threshold = std::min(threshold, imp[j](i));
-      EXPECT_EQ(countKept(keepAbove(imp, threshold)), total / 2);
+      for (std::size_t j = 0; j < a.imp.size(); ++j)
+        for (Eigen::Index i = 0; i < a.imp[j].size(); ++i)
+          if (half[j][i]) threshold = std::min(threshold, a.imp[j](i));
+      EXPECT_EQ(countKept(keepAbove(a.imp, threshold)), a.total / 2);
       // The L2 error equals e^T I^J e with the assembled Gram matrix.
-      const Points approx = synthesize(bank, truncate(d, half), J);
+      const Points approx = synthesize(a.bank, truncate(a.d, half), J);
       ElementGram elements(s);
-      const SparseMatrix I = gram(h.connectivity(J), J, elements);
-      const Points e = approx - surface.V;
+      const SparseMatrix I = gram(a.h.connectivity(J), J, elements);
+      const Points e = approx - a.surface.V;
       const double expected = std::sqrt((e.transpose() * I * e).trace());
-      EXPECT_NEAR(l2Distance(h, s, approx, surface.V), expected, 1e-12 * expected);
+      EXPECT_NEAR(l2Distance(a.h, s, approx, a.surface.V), expected, 1e-12 * expected);
       // Quasi-wavelets are not orthogonal, so fewer coefficients need not mean a larger
       // error in general; on this noise, 5% is farther than 50%, and all is exact.
-      const double err5 = l2Distance(
-          h, s, synthesize(bank, truncate(d, keepLargest(imp, total / 20)), J), surface.V);
+      const double err5 =
+          l2Distance(a.h, s, synthesize(a.bank, truncate(a.d, keepLargest(a.imp, a.total / 20)), J),
+                     a.surface.V);
       EXPECT_GT(err5, expected);
     }
 }
@@ -59,29 +81,22 @@ TEST(Truncation, SynthesisOfTheKeptCoefficientsIsExact) {
   for (const char* name : {"icosahedron", "cylinder"})
     for (Scheme s : {Scheme::Loop, Scheme::Linear}) {
       SCOPED_TRACE(std::string(name) + " " + schemeName(s));
-      const TriMesh base = shapes::byName(name);
-      const int J = 3;
-      const TriMesh surface = subdivide(base, J, s, 0.05, 3);
-      Hierarchy h(base.F, static_cast<int>(base.V.rows()), J);
-      const FilterBank bank = makeFilterBank(h, s, {WaveletKind::Quasi, 1});
-      const Decomposition d = analyze(bank, surface.V);
-      const auto imp = importance(d, bank.norms);
-      long long total = 0;
-      for (const auto& level : imp) total += level.size();
-      for (long long count : {0LL, 1LL, total / 20, total / 2, total}) {
-        const KeepMask keep = keepLargest(imp, count);
+      const AnalysedShape a(name, s);
+      const int J = AnalysedShape::J;
+      for (long long count : {0LL, 1LL, a.total / 20, a.total / 2, a.total}) {
+        const KeepMask keep = keepLargest(a.imp, count);
         for (int level = 0; level <= J; ++level) {
-          const Points expected = synthesize(bank, truncate(d, keep), level);
-          const Points got = synthesizeTruncated(bank, d, keep, level);
+          const Points expected = synthesize(a.bank, truncate(a.d, keep), level);
+          const Points got = synthesizeTruncated(a.bank, a.d, keep, level);
           ASSERT_EQ(got.rows(), expected.rows());
           EXPECT_EQ((got - expected).cwiseAbs().maxCoeff(), 0.0)
               << count << " kept, level " << level;
         }
       }
-      KeepMask shortMask = keepLargest(imp, total);
+      KeepMask shortMask = keepLargest(a.imp, a.total);
       shortMask.back().pop_back();
-      EXPECT_THROW(synthesizeTruncated(bank, d, shortMask, J), Error);
-      EXPECT_THROW(synthesizeTruncated(bank, d, keepLargest(imp, total), J + 1), Error);
+      EXPECT_THROW(synthesizeTruncated(a.bank, a.d, shortMask, J), Error);
+      EXPECT_THROW(synthesizeTruncated(a.bank, a.d, keepLargest(a.imp, a.total), J + 1), Error);
     }
 }
 
