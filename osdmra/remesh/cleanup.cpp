@@ -71,6 +71,15 @@ constexpr long long kPlaneUntangleBudget = 1;
 // over tens of thousands of faces for minutes.
 constexpr long long kUntangleBudget = 1;
 
+// No repair may make an edge longer than this many times the mean edge of the grid over
+// the base faces around either end, as sampled. The repairs' own tests (orientation
+// against the input under each corner, crossings nearby) do not see a point lifted onto
+// another part of the surface: alecjacobson's beetle-alt over 134 faces at J = 5 came out
+// with edges 200 times its grid's mean edge and 8.9% of the diagonal from its input. Over
+// the shared scans' remeshes (150 and 600 faces at J = 5) edges reach at most 10 times
+// that mean (the decimated knight's, where a coarse input's tips are sampled).
+constexpr double kLongestRepairedEdge = 16;
+
 // The faces around each vertex: faces[start[v]], ..., faces[start[v + 1] - 1], in face
 // order (a cheap incidence list; Connectivity also orders them, at more cost).
 struct FacesAround {
@@ -100,6 +109,23 @@ struct Plane {
       : origin(o), e1(normal.unitOrthogonal()), e2(normal.cross(e1)) {}
   Vec2 flat(const Vec3& x) const { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); }
 };
+
+// kLongestRepairedEdge times the mean edge of the grid over each base face (grid faces
+// f * perBase .. (f + 1) * perBase - 1), per grid point the largest of its base faces'.
+std::vector<double> edgeReach(const TriMesh& grid, Eigen::Index perBase) {
+  const Eigen::Index numBase = grid.F.rows() / perBase;
+  std::vector<double> reach(grid.V.rows(), 0.0);
+  for (Eigen::Index b = 0; b < numBase; ++b) {
+    double sum = 0;
+    for (Eigen::Index f = b * perBase; f < (b + 1) * perBase; ++f)
+      for (int k = 0; k < 3; ++k)
+        sum += (grid.V.row(grid.F(f, k)) - grid.V.row(grid.F(f, (k + 1) % 3))).norm();
+    const double r = kLongestRepairedEdge * sum / double(3 * perBase);
+    for (Eigen::Index f = b * perBase; f < (b + 1) * perBase; ++f)
+      for (int k = 0; k < 3; ++k) reach[grid.F(f, k)] = std::max(reach[grid.F(f, k)], r);
+  }
+  return reach;
+}
 
 // The clean-up of one remeshing, stage by stage (see cleanup.h). The remeshed surface
 // m and the samples' places on the input change together; everything else is fixed.
@@ -190,6 +216,9 @@ class Cleaner {
   const FacesAround inputAround_, outputAround_;
   const int numBase_;
   const Eigen::Index perBase_;
+  // Per grid point, kLongestRepairedEdge times the longest mean sampled edge of the base
+  // faces around it: how long a repair may make an edge of it (quality()).
+  const std::vector<double> reach_;
   // Scratch marks: input triangles and vertices visited by lift number `lifts_`, and a
   // disk's rings and local numbering in resampleDisk.
   std::vector<int> triangleStamp_, vertexStamp_;
@@ -237,6 +266,7 @@ Cleaner::Cleaner(Remeshing& out, const TriMesh& input, const std::vector<char>& 
       outputAround_(facesAround(out.mesh.F, out.mesh.V.rows())),
       numBase_(static_cast<int>(out.base.V.rows())),
       perBase_(out.mesh.F.rows() / out.base.F.rows()),
+      reach_(edgeReach(out.mesh, perBase_)),
       triangleStamp_(input.F.rows(), -1),
       vertexStamp_(input.V.rows(), -1),
       dist_(out.mesh.V.rows(), -1),
@@ -331,16 +361,21 @@ int Cleaner::crossings(int v) const {
 }
 
 // How good the triangles around v are: fewer bad ones (turned over, of zero area, or
-// crossing a triangle nearby) first, then the worst one's signed sine against the
-// reference. A zero-area triangle counts twice: a move that trades two flipped triangles
-// for one (a point lifted onto the input's edge in line with two others) leaves a defect
-// that no later move sees a side of (the bunny over 300 faces at J = 5, after 10
-// smoothing sweeps: one such triangle left, and the exact map run for it).
+// crossing a triangle nearby) and edges longer than their ends' reach first, then the
+// worst one's signed sine against the reference. A zero-area triangle counts twice: a
+// move that trades two flipped triangles for one (a point lifted onto the input's edge
+// in line with two others) leaves a defect that no later move sees a side of (the bunny
+// over 300 faces at J = 5, after 10 smoothing sweeps: one such triangle left, and the
+// exact map run for it).
 std::pair<int, double> Cleaner::quality(int v) const {
   const IndexSpan ring = rings_.ring(v);
   const int last = rings_.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
   double worst = std::numeric_limits<double>::infinity();
   int numBad = crossings(v);
+  for (int j = 0; j < ring.size(); ++j) {
+    const int a = ring[j];
+    numBad += (m_.V.row(v) - m_.V.row(a)).norm() > std::max(reach_[v], reach_[a]);
+  }
   for (int j = 0; j < last; ++j) {
     const int a = ring[j], b = ring[(j + 1) % ring.size()];
     bool degenerate = false;
