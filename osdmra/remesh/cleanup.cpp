@@ -110,8 +110,9 @@ struct Plane {
   Vec2 flat(const Vec3& x) const { return Vec2((x - origin).dot(e1), (x - origin).dot(e2)); }
 };
 
-// kLongestRepairedEdge times the mean edge of the grid over each base face (grid faces
-// f * perBase .. (f + 1) * perBase - 1), per grid point the largest of its base faces'.
+// kLongestRepairedEdge times the mean edge of the grid over each base face (base face b
+// holds grid faces b * perBase .. (b + 1) * perBase - 1), per grid point the largest of
+// its base faces'.
 std::vector<double> edgeReach(const TriMesh& grid, Eigen::Index perBase) {
   const Eigen::Index numBase = grid.F.rows() / perBase;
   std::vector<double> reach(grid.V.rows(), 0.0);
@@ -372,10 +373,7 @@ std::pair<int, double> Cleaner::quality(int v) const {
   const int last = rings_.isBoundaryVertex(v) ? ring.size() - 1 : ring.size();
   double worst = std::numeric_limits<double>::infinity();
   int numBad = crossings(v);
-  for (int j = 0; j < ring.size(); ++j) {
-    const int a = ring[j];
-    numBad += (m_.V.row(v) - m_.V.row(a)).norm() > std::max(reach_[v], reach_[a]);
-  }
+  for (int a : ring) numBad += (m_.V.row(v) - m_.V.row(a)).norm() > std::max(reach_[v], reach_[a]);
   for (int j = 0; j < last; ++j) {
     const int a = ring[j], b = ring[(j + 1) % ring.size()];
     bool degenerate = false;
