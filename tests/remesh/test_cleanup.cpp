@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
 
 #include "osdmra/geometry/normals.h"
 #include "osdmra/mesh/connectivity.h"
@@ -56,6 +57,32 @@ void dragAcrossNeighbour(Sampled& x, Remeshing& out) {
   x.grid.where[v] = x.grid.where[w];
 }
 
+// The longest edge of a cleaned-up grid against the reach of its ends: the mean edge of
+// the grid over each base face around them (base face b holds grid faces b * perBase ..
+// (b + 1) * perBase - 1), the larger of the two ends'. The repairs may not stretch an
+// edge beyond 16 of those (cleanup.cpp, kLongestRepairedEdge: a repair once lifted a
+// point of a scan's remesh onto another part of its surface, 8.9% of its diagonal away).
+double longestEdgeAgainstItsReach(const TriMesh& grid, Eigen::Index perBase) {
+  std::vector<double> reach(static_cast<std::size_t>(grid.V.rows()), 0.0);
+  const auto edge = [&](Eigen::Index f, int k) {
+    return (grid.V.row(grid.F(f, k)) - grid.V.row(grid.F(f, (k + 1) % 3))).norm();
+  };
+  for (Eigen::Index b = 0; b < grid.F.rows() / perBase; ++b) {
+    double sum = 0;
+    for (Eigen::Index f = b * perBase; f < (b + 1) * perBase; ++f)
+      for (int k = 0; k < 3; ++k) sum += edge(f, k);
+    for (Eigen::Index f = b * perBase; f < (b + 1) * perBase; ++f)
+      for (int k = 0; k < 3; ++k)
+        reach[grid.F(f, k)] = std::max(reach[grid.F(f, k)], sum / double(3 * perBase));
+  }
+  double longest = 0;
+  for (Eigen::Index f = 0; f < grid.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest,
+                         edge(f, k) / std::max(reach[grid.F(f, k)], reach[grid.F(f, (k + 1) % 3)]));
+  return longest;
+}
+
 }  // namespace
 
 TEST(Cleanup, MovesNothingOnACleanSampling) {
@@ -79,6 +106,7 @@ TEST(Cleanup, RepairsAFoldAndSaysSo) {
   EXPECT_EQ(out.flippedTriangles, 0);
   EXPECT_EQ(out.degenerateTriangles, 0);
   EXPECT_EQ(out.selfIntersections, 0);
+  EXPECT_LE(longestEdgeAgainstItsReach(out.mesh, out.mesh.F.rows() / out.base.F.rows()), 16.0);
 }
 
 // foldedTriangles() counts what the clean-up starts from, as it counts it (remesh()
@@ -140,6 +168,9 @@ TEST(Cleanup, ReportsItsRepairsAndCanBeAbandoned) {
       },
       [&] { ++lastResorts; });
   EXPECT_EQ(lastResorts, 1);
+  // Every repair, the last resort's too, kept the edges within their ends' reach (the
+  // longest is 3.5 times its ends' mean here).
+  EXPECT_LE(longestEdgeAgainstItsReach(out.mesh, out.mesh.F.rows() / out.base.F.rows()), 16.0);
   ASSERT_FALSE(reported.empty());
   EXPECT_TRUE(std::is_sorted(reported.begin(), reported.end()));
   EXPECT_EQ(reported.back(), 1.0);
