@@ -247,8 +247,10 @@ TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
   o.baseFaces = 80;
   o.levels = 3;
   // Its noise's folds left in: taken out (unfold.h), the per-vertex remesh leaves none
-  // either.
+  // either. Its base is over size: split further where that leaves defects (the next
+  // test), the per-vertex remesh leaves none either, so the splits are off here.
   o.unfoldInput = false;
+  o.splitFoldingFaces = false;
   auto defects = [](const Remeshing& r) {
     return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
            r.selfIntersectionsAtInputCrossings;
@@ -278,6 +280,37 @@ TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
   EXPECT_EQ(kept.stages, "vertex");
   EXPECT_EQ(kept.perVertexDefects, 0);
   EXPECT_EQ(kept.mesh.V, alone.mesh.V);
+}
+
+// Where the base is over size whatever the splits (no vertex can go under the last
+// stage) and the remesh leaves defects, splits up to 10% over the size the
+// simplification stopped at are tried too, and kept where they leave fewer: the noisy
+// slab above, its stages relaxed vertex by vertex, comes out with none so, where without
+// splits it leaves some; its base within 10% of the size without splits, its topology
+// kept.
+TEST(Remesh, SplitsFurtherWhereTheBaseIsOverSizeAndDefectsAreLeft) {
+  const TriMesh input = subdivide(shapes::slab(2), 2, Scheme::Loop, 0.05, 6);
+  RemeshOptions o;
+  o.baseFaces = 80;
+  o.levels = 3;
+  o.unfoldInput = false;
+  o.stages = StageRelaxation::perVertex;
+  auto defects = [](const Remeshing& r) {
+    return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
+           r.selfIntersectionsAtInputCrossings;
+  };
+  o.splitFoldingFaces = false;
+  const Remeshing without = remesh(input, o);
+  ASSERT_GT(without.base.F.rows(), 1.1 * o.baseFaces) << "a base over size";
+  ASSERT_GT(defects(without), 0);
+  o.splitFoldingFaces = true;
+  const Remeshing with = remesh(input, o);
+  EXPECT_EQ(defects(with), 0);
+  EXPECT_GT(with.baseSplits, 0);
+  EXPECT_EQ(with.base.F.rows(), without.base.F.rows() + 2 * with.baseSplits);
+  EXPECT_LE(with.base.F.rows(), 1.1 * without.base.F.rows());
+  EXPECT_EQ(topology(with.mesh), topology(input));
+  validate(with.mesh, "remeshed");
 }
 
 // A feature line on its own shorter than a base edge pins two base vertices closer
