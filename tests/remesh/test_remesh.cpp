@@ -36,6 +36,26 @@ TriMesh smoothInput(const TriMesh& base, int levels, std::uint64_t seed) {
   return renumberVertices(m, randomPermutation(static_cast<int>(m.V.rows()), seed));
 }
 
+// The defects beyond the input's own crossings: what remesh() weighs its choices by.
+long long defectsBeyondInput(const Remeshing& r) {
+  return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
+         r.selfIntersectionsAtInputCrossings;
+}
+
+// A noisy genus-2 slab (1,600 faces displaced by a twentieth of its size) asked for 80
+// base faces at J = 3, its noise's folds left in (taken out, unfold.h, no remesh of it
+// leaves a defect): its base stops over size, and its remeshes fold.
+struct NoisySlab {
+  TriMesh input = subdivide(shapes::slab(2), 2, Scheme::Loop, 0.05, 6);
+  RemeshOptions options = [] {
+    RemeshOptions o;
+    o.baseFaces = 80;
+    o.levels = 3;
+    o.unfoldInput = false;
+    return o;
+  }();
+};
+
 }  // namespace
 
 TEST(Remesh, KeepsTopologyAndStaysClose) {
@@ -235,26 +255,19 @@ TEST(Remesh, TheExactMapIsTriedWhereTheStraightenedOneLeavesDefects) {
 
 // The default relaxation (StageRelaxation::perVertexElseMeshWide) keeps the per-vertex
 // remesh where it leaves no defect beyond the input's own, and the mesh-wide one where it
-// does and that one leaves fewer: a noisy genus-2 slab (1,600 faces displaced by a
-// twentieth of its size) asked for 80 base faces at J = 3, where the per-vertex remesh
-// leaves 3 defects and the mesh-wide one none. (Asked for 50, as until its short feature lines
-// could go where the base is over size, both now leave none; displaced by 0.04, the per-vertex
-// remesh left 9 and the mesh-wide one none until the clean-up untangled its disks in the
-// plane: both none now.)
+// does and that one leaves fewer: the noisy slab (NoisySlab), where the per-vertex remesh
+// leaves defects and the mesh-wide one none. (Asked for 50, as until its short feature
+// lines could go where the base is over size, both now leave none; displaced by 0.04, the
+// per-vertex remesh left 9 and the mesh-wide one none until the clean-up untangled its
+// disks in the plane: both none now.)
 TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
-  const TriMesh input = subdivide(shapes::slab(2), 2, Scheme::Loop, 0.05, 6);
-  RemeshOptions o;
-  o.baseFaces = 80;
-  o.levels = 3;
-  // Its noise's folds left in: taken out (unfold.h), the per-vertex remesh leaves none
-  // either. Its base is over size: split further where that leaves defects (the next
-  // test), the per-vertex remesh leaves none either, so the splits are off here.
-  o.unfoldInput = false;
+  const NoisySlab slab;
+  const TriMesh& input = slab.input;
+  RemeshOptions o = slab.options;
+  // Split further where its base is over size and defects are left (the next test), its
+  // per-vertex remesh leaves none either: no splits here.
   o.splitFoldingFaces = false;
-  auto defects = [](const Remeshing& r) {
-    return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
-           r.selfIntersectionsAtInputCrossings;
-  };
+  const auto defects = defectsBeyondInput;
   o.stages = StageRelaxation::perVertex;
   const Remeshing perVertex = remesh(input, o);
   EXPECT_EQ(perVertex.stages, "vertex");
@@ -289,16 +302,11 @@ TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
 // splits it leaves some; its base within 10% of the size without splits, its topology
 // kept.
 TEST(Remesh, SplitsFurtherWhereTheBaseIsOverSizeAndDefectsAreLeft) {
-  const TriMesh input = subdivide(shapes::slab(2), 2, Scheme::Loop, 0.05, 6);
-  RemeshOptions o;
-  o.baseFaces = 80;
-  o.levels = 3;
-  o.unfoldInput = false;
+  const NoisySlab slab;
+  const TriMesh& input = slab.input;
+  RemeshOptions o = slab.options;
   o.stages = StageRelaxation::perVertex;
-  auto defects = [](const Remeshing& r) {
-    return r.flippedTriangles + r.degenerateTriangles + r.selfIntersections -
-           r.selfIntersectionsAtInputCrossings;
-  };
+  const auto defects = defectsBeyondInput;
   o.splitFoldingFaces = false;
   const Remeshing without = remesh(input, o);
   ASSERT_GT(without.base.F.rows(), 1.1 * o.baseFaces) << "a base over size";
