@@ -115,9 +115,11 @@ commands:
                                over the two faces folds less so (default 90,
                                0: no flips); where the grid still folds through
                                both maps, the faces holding its folds are split,
-                               within 10% of N, and kept where it folds less
-                               (--base-splits off: never; lod --remesh --budget
-                               never splits);
+                               within 10% of N, and kept where it folds less;
+                               where the base is over N anyway and defects are
+                               left, within 10% of the base made, and kept where
+                               fewer are left (--base-splits off: never; lod
+                               --remesh --budget never splits);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -150,7 +150,10 @@ struct RemeshOptions {
   /// the splits again without that check, kept where the straightened grid folds less
   /// still and folds nothing, or the exact one no more than before; then, where the grid
   /// kept still folds, one more round, at points of the input where a pair holds no
-  /// input vertex that fits (docs/REMESH.md, step 3).
+  /// input vertex that fits (docs/REMESH.md, step 3). Where no vertex could go under the
+  /// last stage (the base over size whatever the splits) and defects are left, the same
+  /// again within 10% of the size the simplification stopped at, kept where it leaves
+  /// fewer defects beyond the input's own.
   bool splitFoldingFaces = true;
   /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
   /// moved a short way on the surface where that leaves fewer folds.
