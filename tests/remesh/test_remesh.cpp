@@ -267,7 +267,6 @@ TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
   // Split further where its base is over size and defects are left (the next test), its
   // per-vertex remesh leaves none either: no splits here.
   o.splitFoldingFaces = false;
-  const auto defects = defectsBeyondInput;
   o.stages = StageRelaxation::perVertex;
   const Remeshing perVertex = remesh(input, o);
   EXPECT_EQ(perVertex.stages, "vertex");
@@ -275,21 +274,21 @@ TEST(Remesh, FallsBackToTheMeshWideStagesWhereVertexByVertexLeavesDefects) {
   o.stages = StageRelaxation::meshWide;
   const Remeshing meshWide = remesh(input, o);
   EXPECT_EQ(meshWide.stages, "mesh");
-  ASSERT_GT(defects(perVertex), defects(meshWide));
+  ASSERT_GT(defectsBeyondInput(perVertex), defectsBeyondInput(meshWide));
   o.stages = StageRelaxation::perVertexElseMeshWide;
   const Remeshing r = remesh(input, o);
   EXPECT_EQ(r.stages, "mesh");
-  EXPECT_EQ(r.perVertexDefects, defects(perVertex));
+  EXPECT_EQ(r.perVertexDefects, defectsBeyondInput(perVertex));
   EXPECT_EQ(r.mesh.V, meshWide.mesh.V);
   EXPECT_EQ(r.mesh.F, meshWide.mesh.F);
-  EXPECT_EQ(defects(r), defects(meshWide));
+  EXPECT_EQ(defectsBeyondInput(r), defectsBeyondInput(meshWide));
 
   // Where vertex by vertex leaves none, it is kept, and the mesh-wide one never made.
   const TriMesh smooth = smoothInput(shapes::icosahedron(), 3, 7);
   const Remeshing kept = remesh(smooth, o);
   o.stages = StageRelaxation::perVertex;
   const Remeshing alone = remesh(smooth, o);
-  EXPECT_EQ(defects(alone), 0);
+  EXPECT_EQ(defectsBeyondInput(alone), 0);
   EXPECT_EQ(kept.stages, "vertex");
   EXPECT_EQ(kept.perVertexDefects, 0);
   EXPECT_EQ(kept.mesh.V, alone.mesh.V);
@@ -306,14 +305,13 @@ TEST(Remesh, SplitsFurtherWhereTheBaseIsOverSizeAndDefectsAreLeft) {
   const TriMesh& input = slab.input;
   RemeshOptions o = slab.options;
   o.stages = StageRelaxation::perVertex;
-  const auto defects = defectsBeyondInput;
   o.splitFoldingFaces = false;
   const Remeshing without = remesh(input, o);
   ASSERT_GT(without.base.F.rows(), 1.1 * o.baseFaces) << "a base over size";
-  ASSERT_GT(defects(without), 0);
+  ASSERT_GT(defectsBeyondInput(without), 0);
   o.splitFoldingFaces = true;
   const Remeshing with = remesh(input, o);
-  EXPECT_EQ(defects(with), 0);
+  EXPECT_EQ(defectsBeyondInput(with), 0);
   EXPECT_GT(with.baseSplits, 0);
   EXPECT_EQ(with.base.F.rows(), without.base.F.rows() + 2 * with.baseSplits);
   EXPECT_LE(with.base.F.rows(), 1.1 * without.base.F.rows());
