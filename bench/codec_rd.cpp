@@ -3,7 +3,7 @@
 //
 //   osdmra_codec_rd MESH --csv OUT.csv [--name NAME] [--remesh --base-faces N --levels J]
 //                   [--scheme auto|loop|linear] [--wavelets fixed|quasi|lazy] [--rings R]
-//                   [--tangent-weight W]
+//                   [--tangent-weight W] [--tangent-floor F] [--bend-gain K]
 //                   [--level-gain G] [--rates B1,B2,...] [--no-draco]
 //
 // Both codecs get the same full-resolution mesh (the input, or its remesh with
@@ -158,10 +158,11 @@ int main(int argc, char** argv) try {
   // As the command line: both decoders then run on memory the process keeps, in huge
   // pages where the system grants them.
   osdmra::cli::keepFreedMemory();
-  const cli::Args args("", std::vector<std::string>(argv + 1, argv + argc),
-                       {"csv", "name", "base-faces", "levels", "scheme", "wavelets",
-                        "tangent-weight", "level-gain", "rates", "rings"},
-                       {"remesh", "no-draco"}, "the comment at the top of bench/codec_rd.cpp");
+  const cli::Args args(
+      "", std::vector<std::string>(argv + 1, argv + argc),
+      {"csv", "name", "base-faces", "levels", "scheme", "wavelets", "tangent-weight",
+       "tangent-floor", "bend-gain", "level-gain", "rates", "rings"},
+      {"remesh", "no-draco"}, "the comment at the top of bench/codec_rd.cpp");
   args.expectPositional(1, "one mesh");
   const std::string in = args.positional()[0], csv = args.require("csv");
   const std::string name = args.get("name", in);
@@ -185,6 +186,9 @@ int main(int argc, char** argv) try {
   if (options.wavelets.kind != WaveletKind::Quasi) options.wavelets.rings = 0;
   CodecOptions codec;
   codec.tangentWeight = args.real("tangent-weight", codec.tangentWeight, 1e-3, 1);
+  codec.tangentFloor = args.real("tangent-floor", std::min(codec.tangentFloor, codec.tangentWeight),
+                                 1e-3, codec.tangentWeight);
+  codec.bendGain = args.real("bend-gain", codec.bendGain, 0, 1e6);
   codec.levelGain = args.real("level-gain", codec.levelGain, 1, 4);
   codec.measureSurface = false;  // measured below, outside the timing
   options.scheme =

@@ -1,5 +1,6 @@
 // compress and decompress: the progressive geometry codec (osdmra/codec/codec.h)
 // from the command line.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -38,6 +39,9 @@ CodecOptions codecOptions(const Args& args) {
   CodecOptions o;
   o.precision = args.real("precision", o.precision, 1e-9, 0.5);
   o.tangentWeight = args.real("tangent-weight", o.tangentWeight, 1e-3, 1);
+  o.tangentFloor =
+      args.real("tangent-floor", std::min(o.tangentFloor, o.tangentWeight), 1e-3, o.tangentWeight);
+  o.bendGain = args.real("bend-gain", o.bendGain, 0, 1e6);
   o.levelGain = args.real("level-gain", o.levelGain, 1, 4);
   o.distance = distanceOptions(args);
   return o;
@@ -61,8 +65,8 @@ double bitsPerVertex(std::size_t bytes, long long vertices) {
 int cmdCompress(const Argv& argv) {
   Args args("compress", argv,
             withRemeshOptions({"output", "psnr", "bits-per-vertex", "bytes", "levels", "scheme",
-                               "wavelets", "rings", "precision", "tangent-weight", "level-gain",
-                               "psnr-measure", "samples", "seed"}),
+                               "wavelets", "rings", "precision", "tangent-weight", "tangent-floor",
+                               "bend-gain", "level-gain", "psnr-measure", "samples", "seed"}),
             flags({"remesh"}));
   args.expectPositional(1, "one input surface: osdmra compress IN -o OUT.osz");
   const Common opt = common(args);

@@ -136,8 +136,8 @@ commands:
                                valences)
   compress IN -o OUT.osz [--psnr P | --bits-per-vertex B | --bytes N] [--scheme S]
                  [--wavelets W] [--rings R] [--psnr-measure surface|vertices]
-                 [--precision E] [--tangent-weight W] [--level-gain G]
-                 [--samples N --seed S] [--remesh ...]
+                 [--precision E] [--tangent-weight W] [--tangent-floor F]
+                 [--bend-gain K] [--level-gain G] [--samples N --seed S] [--remesh ...]
                                progressive wavelet compression (edge zerotrees of the
                                coefficients in local frames, range coded): cut at a
                                PSNR (dB, 20 log10(diagonal / RMS), RMS of the sampled
@@ -151,7 +151,9 @@ commands:
                                solve when decoding), or W = quasi (with --rings), lazy;
                                scheme S loop or linear, by default the one whose whole
                                stream is shorter on this surface (Loop on smooth ones,
-                               linear on remeshes of scans, flat in each input triangle)
+                               linear on remeshes of scans, flat in each input triangle);
+                               tangential components weighted by the surface's bend,
+                               clamp(K bend, F, W), defaults 0.5, 1/16, 0.25
   decompress IN.osz -o OUT [--bytes N]
                                decode the stream, or only its first N bytes (every
                                prefix holding the header and base mesh decodes)

@@ -1,6 +1,7 @@
 #include "osdmra/codec/codec.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <future>
@@ -18,13 +19,25 @@ namespace {
 
 // ---- Quantisation ------------------------------------------------------------------
 
-// World units of one quantisation step of component c of level j: the weighted value
-// v = x * gain^(J-1-j) * w_c is quantised with the step, so x's step is
-// step / (gain^(J-1-j) w_c). Both sides compute it from the header's f32 values.
-double worldStep(const OszHeader& h, int j, int c) {
-  const double weight = std::pow(static_cast<double>(h.levelGain), h.levels - 1 - j) *
-                        (c == 0 ? 1.0 : static_cast<double>(h.tangentWeight));
-  return static_cast<double>(h.step) / weight;
+// World units of one quantisation step of the normal component of level j: the
+// weighted value v = x * gain^(J-1-j) is quantised with the step, so x's step is
+// step / gain^(J-1-j). Both sides compute it from the header's f32 values.
+double normalStep(const OszHeader& h, int j) {
+  return static_cast<double>(h.step) / std::pow(static_cast<double>(h.levelGain), h.levels - 1 - j);
+}
+
+// The weight of the tangential components of edge e, from how much the coarser surface
+// bends there (CodecOptions::bendGain).
+double tangentWeight(const OszHeader& h, const LocalFrames& f, Eigen::Index e) {
+  const double w = static_cast<double>(h.bendGain) * f.bend[e];
+  return std::clamp(w, static_cast<double>(h.tangentFloor), static_cast<double>(h.tangentWeight));
+}
+
+// World units of one step of each component of edge e of level j, in the frames f.
+std::array<double, 3> componentSteps(const OszHeader& h, int j, const LocalFrames& f,
+                                     Eigen::Index e) {
+  const double normal = normalStep(h, j), tangential = normal / tangentWeight(h, f, e);
+  return {normal, tangential, tangential};
 }
 
 // The detail vectors of level j from per-component values in steps (row e, component
@@ -33,10 +46,9 @@ Points detailsFromSteps(const OszHeader& h, const Hierarchy& hier, int j, const 
                         const std::vector<double>& steps) {
   const LocalFrames frames = edgeFrames(hier, j, coarse);
   Points local(frames.normal.rows(), 3);
-  for (int c = 0; c < 3; ++c) {
-    const double unit = worldStep(h, j, c);
-    for (Eigen::Index e = 0; e < local.rows(); ++e)
-      local(e, c) = steps[3 * static_cast<std::size_t>(e) + c] * unit;
+  for (Eigen::Index e = 0; e < local.rows(); ++e) {
+    const std::array<double, 3> unit = componentSteps(h, j, frames, e);
+    for (int c = 0; c < 3; ++c) local(e, c) = steps[3 * static_cast<std::size_t>(e) + c] * unit[c];
   }
   return toWorld(frames, local);
 }
@@ -44,13 +56,14 @@ Points detailsFromSteps(const OszHeader& h, const Hierarchy& hier, int j, const 
 // Level j's coefficients as integers of steps in the frames of the decoder's c^j.
 std::vector<std::int32_t> quantiseLevel(const OszHeader& h, const Hierarchy& hier, int j,
                                         const Points& coarse, const Points& detail) {
-  const Points local = toLocal(edgeFrames(hier, j, coarse), detail);
+  const LocalFrames frames = edgeFrames(hier, j, coarse);
+  const Points local = toLocal(frames, detail);
   std::vector<std::int32_t> q(3 * static_cast<std::size_t>(local.rows()));
   const double limit = std::ldexp(1.0, kMaxPlanes) - 1;
-  for (int c = 0; c < 3; ++c) {
-    const double unit = worldStep(h, j, c);
-    for (Eigen::Index e = 0; e < local.rows(); ++e) {
-      const double v = std::trunc(local(e, c) / unit);  // dead zone around 0 (SPIHT's)
+  for (Eigen::Index e = 0; e < local.rows(); ++e) {
+    const std::array<double, 3> unit = componentSteps(h, j, frames, e);
+    for (int c = 0; c < 3; ++c) {
+      const double v = std::trunc(local(e, c) / unit[c]);  // dead zone around 0 (SPIHT's)
       if (!(std::abs(v) <= limit))
         throw Error("compress: a coefficient of level " + std::to_string(j) +
                     " is too large for the quantisation step; lower the precision");
@@ -169,10 +182,12 @@ OszHeader makeHeader(const FilterBank& bank, const Points& finest, const CodecOp
   const Hierarchy& hier = *bank.hierarchy;
   if (hier.levels() < 1) throw Error("compress: the surface needs at least one level of detail");
   if (!(o.precision > 0) || !(o.levelGain >= 1 && o.levelGain <= 4) ||
-      !(o.tangentWeight > 0 && o.tangentWeight <= 1))
+      !(o.tangentWeight > 0 && o.tangentWeight <= 1) ||
+      !(o.tangentFloor > 0 && o.tangentFloor <= o.tangentWeight) ||
+      !(o.bendGain >= 0 && o.bendGain <= 1e6))
     throw Error(
         "compress: CodecOptions out of range (precision > 0, levelGain in [1, 4], "
-        "tangentWeight in (0, 1])");
+        "tangentWeight in (0, 1], tangentFloor in (0, tangentWeight], bendGain in [0, 1e6])");
   OszHeader h;
   h.scheme = bank.scheme;
   h.wavelets = bank.wavelets;
@@ -182,6 +197,8 @@ OszHeader makeHeader(const FilterBank& bank, const Points& finest, const CodecOp
   h.step = static_cast<float>(o.precision * std::max(boundingBoxDiagonal(finest), 1e-30));
   h.levelGain = static_cast<float>(o.levelGain);
   h.tangentWeight = static_cast<float>(o.tangentWeight);
+  h.tangentFloor = static_cast<float>(o.tangentFloor);
+  h.bendGain = static_cast<float>(o.bendGain);
   return h;
 }
 

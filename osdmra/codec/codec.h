@@ -57,20 +57,39 @@ struct CodecOptions {
   /// (up to +1.8), worse on the cow, the decimated knight and the screwdriver (-0.6 to
   /// -1.0 at 1.5 and 2.5) and bumpy-cube at 1.5 (-0.2).
   double levelGain = 1.5;
-  /// Weight of the two tangential components relative to the normal one (0, 1]:
-  /// below 1 they are quantised more coarsely, since sliding along the surface
-  /// changes its shape less than lifting it off. Measured on the bundled head by
-  /// sampled surface distance (bench/osdmra_codec_rd --tangent-weight, before the
-  /// spatial contexts), dB at 0.75 / 1.5 / 3.5 / 7 / 10 bits per vertex:
-  /// 0.5: 61.7 / 67.3 / 75.8 / 84.9 / 92.2; 0.25: 61.9 / 67.5 / 76.1 / 87.3 / 94.5;
-  /// 0.125: 61.7 / 67.1 / 75.9 / 87.5 / 95.2. The vertex-to-vertex PSNR prefers 1.
-  /// On the bunny's J = 5 remesh over 300 faces (2026-11-29, the polyhedral scheme), dB
-  /// at 0.75 / 1.5 / 2.5 / 3.5 / 5: 1: 73.4 / 78.3 / 82.3 / 86.6 / 90.1; 0.5: 74.7 / 81.0
-  /// / 85.1 / 87.5 / 92.7; 0.25: 75.9 / 81.2 / 86.0 / 90.7 / 95.6; 0.125: 75.0 / 80.3 /
-  /// 85.5 / 90.1 / 95.8; 0.0625: 72.2 / 77.4 / 82.8 / 87.8 / 94.9: a remesh of a scan's
-  /// flat triangles is no smoother tangentially: 0.25 stays best up to 3.5 bits per
-  /// vertex (0.125 is 0.2 dB ahead at 5).
+  /// Tangential components are weighted relative to the normal one by how much the
+  /// coarser surface bends at their edge (LocalFrames::bend, b): w = clamp(bendGain
+  /// b, tangentFloor, tangentWeight). Sliding a new vertex by t along the surface
+  /// moves the finer surface by about t times the angle its faces make with its
+  /// normal, about half the coarser one's at a level one finer (so bendGain 0.5);
+  /// where the surface is flat sliding costs almost nothing and the floor bounds how
+  /// coarse the step gets. With bendGain 0 (or floor = weight) every tangential
+  /// component has the weight tangentWeight, as in format version 2.
+  ///
+  /// Measured by sampled surface distance (bench/osdmra_codec_rd --bend-gain 0
+  /// --tangent-floor 0.25 against the defaults, 2026-12-03 16:05-16:13 UTC), on the J = 5
+  /// remeshes over 300 faces of all 16 shared scans (the polyhedral scheme), dB at 0.75
+  /// / 1.5 / 3.5 / 5 bits per vertex: -0.06 to +0.93 / -0.04 to +1.14 / +0.03 to +3.56 /
+  /// +0.19 to +4.04 (but fandisk, whose whole stream is under 3.5 bits per vertex:
+  /// 112.0 dB against 112.6; the bunny -0.06 / +0.14 / +0.69 / +1.89, armadillo -0.01 / -0.04 /
+  /// +0.03 / +0.19, the elephant +0.14 / +0.33 / +2.05 / +3.31), at 7 bits per vertex
+  /// +0.72 to +2.73 where the streams stay under the whole stream's precision (about
+  /// 109 dB; there, where the constant weight reached 109.7-112.6 dB, 0.1-2.0 dB
+  /// less: the floor's step is the whole stream's tangential precision); on the head
+  /// with Loop -0.04 / +0.15 / +0.46 and +1.20 / +1.21 at 7 / 10. Tried alongside (the
+  /// head, the bunny, armadillo and spot): a floor of 1/32 or 1/8, a gain of 0.25 or 1,
+  /// and no cap (tangentWeight 1), each worse on some of them.
+  ///
+  /// The constant weight before (measured on the bundled head, dB at 0.75 / 1.5 / 3.5 /
+  /// 7 / 10 bits per vertex): 0.5: 61.7 / 67.3 / 75.8 / 84.9 / 92.2; 0.25: 61.9 / 67.5 /
+  /// 76.1 / 87.3 / 94.5; 0.125: 61.7 / 67.1 / 75.9 / 87.5 / 95.2; on the bunny's remesh
+  /// (0.75 / 1.5 / 2.5 / 3.5 / 5) 1: 73.4 / 78.3 / 82.3 / 86.6 / 90.1; 0.25: 75.9 / 81.2
+  /// / 86.0 / 90.7 / 95.6; 0.0625: 72.2 / 77.4 / 82.8 / 87.8 / 94.9.
   double tangentWeight = 0.25;
+  /// The smallest tangential weight, (0, tangentWeight].
+  double tangentFloor = 1.0 / 16;
+  /// Tangential weight per unit of bend, >= 0 (0: tangentWeight everywhere).
+  double bendGain = 0.5;
   /// Measure Compressed::psnrSurface (one sampled surface distance, about as long as
   /// the encoding on large meshes); NaN when off. PSNR targets measure it anyway.
   bool measureSurface = true;

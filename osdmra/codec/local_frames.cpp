@@ -1,6 +1,7 @@
 #include "osdmra/codec/local_frames.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 #include "osdmra/base/error.h"
 
@@ -30,6 +31,29 @@ bool normalise(Vec3& v) {
   return true;
 }
 
+// Per vertex, the largest distance between the unit normal of a face around it and
+// its own unit normal (from the area-weighted sums N); 0 for a vertex or face too
+// degenerate to have a normal.
+Eigen::VectorXd normalSpread(const Faces& F, const Points& c, const Points& N) {
+  Points unit = N;
+  for (Eigen::Index v = 0; v < unit.rows(); ++v) {
+    Vec3 n = unit.row(v);
+    unit.row(v) = normalise(n) ? n : Vec3::Zero();
+  }
+  Eigen::VectorXd spread = Eigen::VectorXd::Zero(c.rows());
+  for (int f = 0; f < F.rows(); ++f) {
+    const Vec3 a = c.row(F(f, 0));
+    Vec3 n = (c.row(F(f, 1)) - a).cross(c.row(F(f, 2)) - a);
+    if (!normalise(n)) continue;
+    for (int i = 0; i < 3; ++i) {
+      const int v = F(f, i);
+      if (unit.row(v).isZero()) continue;
+      spread[v] = std::max(spread[v], (n - unit.row(v)).norm());
+    }
+  }
+  return spread;
+}
+
 }  // namespace
 
 LocalFrames edgeFrames(const Hierarchy& h, int j, const Points& c) {
@@ -38,8 +62,9 @@ LocalFrames edgeFrames(const Hierarchy& h, int j, const Points& c) {
                 (j >= 0 && j <= h.levels() ? std::to_string(h.numVertices(j)) : "valid") +
                 " control points");
   const Points N = vertexNormals(h.faces(j), c);
+  const Eigen::VectorXd spread = normalSpread(h.faces(j), c, N);
   const int E = h.numVertices(j + 1) - h.numVertices(j);
-  LocalFrames f{Points(E, 3), Points(E, 3), Points(E, 3)};
+  LocalFrames f{Points(E, 3), Points(E, 3), Points(E, 3), Eigen::VectorXd(E)};
   for (int e = 0; e < E; ++e) {
     const auto [a, b] = h.parentEdge(j, e);
     Vec3 n = N.row(a) + N.row(b);
@@ -55,6 +80,7 @@ LocalFrames edgeFrames(const Hierarchy& h, int j, const Points& c) {
       t = axis - axis.dot(n) * n;
       normalise(t);
     }
+    f.bend[e] = std::max(spread[a], spread[b]);
     f.normal.row(e) = n;
     f.along.row(e) = t;
     f.across.row(e) = n.cross(t);

@@ -15,6 +15,11 @@
 // the sum of the area-weighted vertex normals of a and b over M^j; the along-edge
 // tangent is b - a made orthogonal to it. Degenerate neighbourhoods fall back to the
 // coordinate axes, the same way on both sides.
+//
+// Each frame also says how much the coarser surface bends at its edge: sliding a new
+// vertex by t along a flat surface moves it by nothing, along a bent one by about t
+// times the angle its faces make with its normal, so the codec weights tangential
+// components by it (codec.h, CodecOptions::bendGain).
 #pragma once
 
 #include "osdmra/mesh/mesh.h"
@@ -25,6 +30,10 @@ namespace osdmra {
 /// One orthonormal frame per edge of M^j: rows of `normal`, `along`, `across`.
 struct LocalFrames {
   Points normal, along, across;
+  /// Per edge (a, b): the largest |n_f - n_v| over the faces f of M^j around a or b,
+  /// between the unit normal of f and the unit vertex normal of that end, 2 sin(theta / 2)
+  /// for the angle theta between them: 0 where the surface is flat around the edge.
+  Eigen::VectorXd bend;
 };
 
 /// The frames of the edges of M^j (0 <= j < J) over control points `c` (n_j x 3).

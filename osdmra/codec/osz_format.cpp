@@ -58,8 +58,9 @@ void checkHeader(const OszFile& f) {
       h.topPlane < -1 || h.topPlane > 29 || h.baseBits < 1 || h.baseBits > 31 ||
       h.wavelets.rings < 0 || h.wavelets.rings > 8 || !(h.step > 0) || !finite(h.step) ||
       !(h.levelGain >= 1 && h.levelGain <= 4) || !(h.tangentWeight > 0 && h.tangentWeight <= 1) ||
-      !(h.baseStep > 0) || !finite(h.baseStep) || !finite(h.baseOrigin[0]) ||
-      !finite(h.baseOrigin[1]) || !finite(h.baseOrigin[2]))
+      !(h.tangentFloor > 0 && h.tangentFloor <= h.tangentWeight) ||
+      !(h.bendGain >= 0 && h.bendGain <= 1e6) || !(h.baseStep > 0) || !finite(h.baseStep) ||
+      !finite(h.baseOrigin[0]) || !finite(h.baseOrigin[1]) || !finite(h.baseOrigin[2]))
     throw Error("writeOsz: a header field is out of the format's range");
   if (f.coefficients.size() > UINT32_MAX || f.base.size() > UINT32_MAX - kHeadFixedBytes)
     throw Error("writeOsz: the stream is too large for the format");
@@ -103,7 +104,7 @@ std::vector<std::uint8_t> writeOsz(const OszFile& f) {
   w.u8(static_cast<std::uint8_t>(static_cast<std::int8_t>(h.topPlane)));
   w.u8(h.baseBits);
   for (float v : {h.step, h.levelGain, h.tangentWeight, h.baseStep, h.baseOrigin[0],
-                  h.baseOrigin[1], h.baseOrigin[2]})
+                  h.baseOrigin[1], h.baseOrigin[2], h.tangentFloor, h.bendGain})
     w.f32(v);
   w.raw(f.base.data(), f.base.size());
   w.crcFrom(start);
@@ -169,16 +170,23 @@ class Reader {
   std::string name_;
 };
 
-void readSignature(Reader& r) {
+// The format version, after the signature: 2 or 3.
+int readSignature(Reader& r) {
   const std::size_t n = std::min(r.remaining(), kSignature.size());
   if (std::memcmp(r.at(0), kSignature.data(), n) != 0)
     r.fail(0, "not an osdmra compressed surface (.osz): the signature is missing");
   r.take(kSignature.size(), "signature");
   const std::size_t at = r.offset();
   const std::uint32_t version = r.u8("format version");
-  if (version != kOszFormatVersion)
-    r.fail(at, "format version " + std::to_string(version) + " (this build reads version " +
+  if (version != 2 && version != kOszFormatVersion)
+    r.fail(at, "format version " + std::to_string(version) + " (this build reads versions 2 and " +
                    std::to_string(kOszFormatVersion) + ")");
+  return static_cast<int>(version);
+}
+
+// Bytes of HEAD's payload before the coded base mesh, by format version.
+std::size_t headFixedBytes(int version) {
+  return version == 2 ? kHeadFixedBytes - 8 : kHeadFixedBytes;
 }
 
 void expectTag(Reader& r, const char* tag) {
@@ -188,7 +196,7 @@ void expectTag(Reader& r, const char* tag) {
 }
 
 // The fixed fields of HEAD, each checked as it is read.
-OszHeader readHeadFields(Reader& r) {
+OszHeader readHeadFields(Reader& r, int version) {
   OszHeader h;
   std::size_t at = r.offset();
   const std::uint32_t scheme = r.u8("scheme"), kind = r.u8("wavelet kind");
@@ -232,6 +240,14 @@ OszHeader readHeadFields(Reader& r) {
   if (!(h.baseStep > 0) || !std::isfinite(h.baseStep)) r.fail(at + 12, "base step is not positive");
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(h.baseOrigin[i])) r.fail(at + 16 + 4 * i, "base origin is not finite");
+  h.tangentFloor = h.tangentWeight;  // version 2: one tangential weight
+  if (version == 2) return h;
+  at = r.offset();
+  h.tangentFloor = r.f32("tangential floor");
+  h.bendGain = r.f32("bend gain");
+  if (!(h.tangentFloor > 0 && h.tangentFloor <= h.tangentWeight))
+    r.fail(at, "tangential floor outside (0, tangential weight]");
+  if (!(h.bendGain >= 0 && h.bendGain <= 1e6)) r.fail(at + 4, "bend gain outside [0, 1e6]");
   return h;
 }
 
@@ -251,20 +267,21 @@ void checkSizes(Reader& r, const OszHeader& h, std::size_t baseBytes, std::size_
                    " times exceed the limit of " + std::to_string(maxFaces) + " triangles");
 }
 
-OszHeader readHead(Reader& r, std::vector<std::uint8_t>& base, long long maxFaces) {
+OszHeader readHead(Reader& r, int version, std::vector<std::uint8_t>& base, long long maxFaces) {
+  const std::size_t fixed = headFixedBytes(version);
   const std::size_t start = r.offset();
   expectTag(r, "HEAD");
   const std::size_t lengthAt = r.offset();
   const std::uint32_t length = r.u32("HEAD length");
-  if (length < kHeadFixedBytes) r.fail(lengthAt, "HEAD length " + std::to_string(length));
+  if (length < fixed) r.fail(lengthAt, "HEAD length " + std::to_string(length));
   r.need(length + 4, "the HEAD chunk");  // before any field is trusted
   const std::uint32_t expected = crc32(r.at(start), 8 + length);
-  const OszHeader h = readHeadFields(r);
-  const std::uint8_t* coded = r.take(length - kHeadFixedBytes, "base mesh");
+  const OszHeader h = readHeadFields(r, version);
+  const std::uint8_t* coded = r.take(length - fixed, "base mesh");
   const std::size_t crcAt = r.offset();
   if (r.u32("HEAD checksum") != expected) r.fail(crcAt, "HEAD checksum mismatch: corrupt header");
-  checkSizes(r, h, length - kHeadFixedBytes, lengthAt, maxFaces);
-  base.assign(coded, coded + (length - kHeadFixedBytes));
+  checkSizes(r, h, length - fixed, lengthAt, maxFaces);
+  base.assign(coded, coded + (length - fixed));
   return h;
 }
 
@@ -307,9 +324,9 @@ void readCoefficients(Reader& r, OszFile& f) {
 OszFile readOsz(const std::uint8_t* data, std::size_t size, const std::string& name,
                 long long maxFaces) {
   Reader r(data, size, name);
-  readSignature(r);
+  const int version = readSignature(r);
   OszFile f;
-  f.header = readHead(r, f.base, maxFaces);
+  f.header = readHead(r, version, f.base, maxFaces);
   readCoefficients(r, f);
   return f;
 }

@@ -1,14 +1,17 @@
 // The .osz container: a progressive wavelet geometry stream (codec.h) in checked
 // chunks.
 //
-// Format version 2 (version 1, before 2026-11-27, coded the signs without a context:
-// its streams are refused, naming both versions). Integers and reals are little-endian; reals are IEEE f32 (the
+// Format version 3 (since 2026-12-03: tangential weights follow the surface's bend,
+// two more reals in HEAD). Version 2 streams (2026-11-27 to 2026-12-03) are read
+// too, as version 3 with the bend gain 0 and the floor at the tangential weight;
+// version 1's (before 2026-11-27, signs coded without a context) are refused, naming
+// the versions this build reads. Integers and reals are little-endian; reals are IEEE f32 (the
 // encoder quantises with exactly the f32 values it writes, so both sides compute
 // the same numbers).
 //
 //   offset  size  field
 //   0       8     signature 89 4F 53 5A 0D 0A 1A 0A  ("\x89OSZ\r\n\x1a\n", as PNG's)
-//   8       1     u8 format version (2)
+//   8       1     u8 format version (3)
 //   9             HEAD chunk:
 //           4       tag "HEAD"
 //           4       u32 payload length L (kHeadFixedBytes + the coded base mesh)
@@ -22,10 +25,12 @@
 //           1       u8 bits per base coordinate (1..31)
 //           4       f32 step: quantisation step of the weighted coefficients (> 0)
 //           4       f32 level gain g (1..4): level j is weighted g^(J-1-j)
-//           4       f32 tangential weight (0, 1]
+//           4       f32 tangential weight (0, 1], the largest
 //           4       f32 base step (> 0)
 //           12      f32 x 3 base origin
-//           L - 42  the base mesh, range coded with even probabilities: 3 F_0 vertex
+//           4       f32 tangential floor (0, tangential weight] (not in version 2)
+//           4       f32 bend gain [0, 1e6] (not in version 2)
+//           L - 50  the base mesh, range coded with even probabilities: 3 F_0 vertex
 //                   indices of ceil(log2 n_0) bits, then 3 n_0 coordinates of the
 //                   declared bits (origin + k * base step)
 //           4       u32 CRC-32 of the tag, length and payload
@@ -55,11 +60,11 @@
 
 namespace osdmra {
 
-constexpr std::uint8_t kOszFormatVersion = 2;
+constexpr std::uint8_t kOszFormatVersion = 3;
 /// Coefficient bytes per checksummed block.
 constexpr std::size_t kOszBlock = 1024;
-/// Bytes of the HEAD payload before the coded base mesh.
-constexpr std::size_t kHeadFixedBytes = 42;
+/// Bytes of the HEAD payload before the coded base mesh (42 in version 2).
+constexpr std::size_t kHeadFixedBytes = 50;
 
 /// The fields of the HEAD chunk.
 struct OszHeader {
@@ -71,6 +76,8 @@ struct OszHeader {
   int baseBits = 1;
   float step = 1, levelGain = 2, tangentWeight = 1, baseStep = 1;
   std::array<float, 3> baseOrigin{};
+  /// Tangential weights are clamp(bendGain * bend, tangentFloor, tangentWeight).
+  float tangentFloor = 1, bendGain = 0;
 };
 
 /// A parsed (or to-be-written) .osz stream.

@@ -54,7 +54,8 @@ double errorBound(const Surface& s, const CodecOptions& o) {
       alphaNorm = std::max(alphaNorm, sum);
     }
     const double unit = step / std::pow(o.levelGain, J - 1 - j);
-    const double vector = unit * std::sqrt(1 + 2 / (o.tangentWeight * o.tangentWeight));
+    // Tangential steps are at most the floor's (CodecOptions::bendGain).
+    const double vector = unit * std::sqrt(1 + 2 / (o.tangentFloor * o.tangentFloor));
     bound += (1 + alphaNorm) * vector;
   }
   return bound * (1 + 1e-6);  // f32 header values
@@ -99,6 +100,36 @@ TEST(Codec, WholeStreamsAreWithinTheQuantisationBound) {
   }
 }
 
+// Where the surface is flat, sliding along it costs nothing: its tangential components
+// get the floor's step, so tangential details cost fewer bits than with one weight
+// everywhere, and still decode within the floor's bound.
+TEST(Codec, TangentialStepsFollowTheBend) {
+  const TriMesh square = test::unitSquare();
+  const Hierarchy h(square.F, static_cast<int>(square.V.rows()), 4);
+  Points fine = subdivide(square, 4, Scheme::Linear, 0, 1).V;  // flat, z = 0
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> slide(-0.01, 0.01);
+  for (Eigen::Index v = square.V.rows(); v < fine.rows(); ++v) {
+    fine(v, 0) += slide(rng);
+    fine(v, 1) += slide(rng);
+  }
+  const FilterBank bank = makeFilterBank(h, Scheme::Linear, WaveletOptions{WaveletKind::Lazy, 0});
+  const Decomposition d = analyze(bank, fine);
+  CodecOptions bent, constant;
+  bent.precision = constant.precision = 1e-4;
+  bent.measureSurface = constant.measureSurface = false;
+  constant.bendGain = 0;
+  constant.tangentFloor = constant.tangentWeight;
+  const Compressed a = compress(bank, d, fine, RateTarget::whole(), bent);
+  const Compressed b = compress(bank, d, fine, RateTarget::whole(), constant);
+  EXPECT_LT(a.bytes.size(), b.bytes.size() * 3 / 4);
+  const Decompressed back = decode(a.bytes, a.bytes.size());
+  EXPECT_LT(back.mesh.V.col(2).cwiseAbs().maxCoeff(), 1e-12);  // nothing leaves the plane
+  const double step = bent.precision * boundingBoxDiagonal(fine) / bent.tangentFloor;
+  const double worst = (back.mesh.V - fine).cwiseAbs().maxCoeff();
+  EXPECT_LE(worst, 4 * step);  // at most one step per level of the lazy synthesis
+}
+
 TEST(Codec, FinerPrecisionCostsMoreAndErrsLess) {
   const Surface s("octahedron", 4, Scheme::Loop);
   double lastPsnr = 0;
@@ -106,7 +137,7 @@ TEST(Codec, FinerPrecisionCostsMoreAndErrsLess) {
   for (double precision : {1e-2, 1e-3, 1e-4, 1e-5}) {
     CodecOptions o;
     o.precision = precision;
-    o.tangentWeight = 1;  // every component on the same step
+    o.tangentWeight = o.tangentFloor = 1;  // every component on the same step
     o.measureSurface = false;
     const Compressed z = compress(s.bank, s.d, s.mesh.V, RateTarget::whole(), o);
     EXPECT_GT(z.psnrVertices, lastPsnr + 10) << precision;  // 20 dB per decade, roughly
@@ -246,6 +277,30 @@ void fixChecksums(std::vector<std::uint8_t>& b) {
     put(at + len, crc32(b.data() + at, len));
     at += len + 4;
   }
+}
+
+// Streams of format version 2 (one tangential weight, 8 bytes fewer in HEAD) still
+// decode, to what a version 3 stream of the same weights decodes to.
+TEST(Codec, ReadsFormatVersion2Streams) {
+  const Surface s("torus", 3, Scheme::Loop);
+  CodecOptions o;
+  o.precision = 1e-4;
+  o.measureSurface = false;
+  o.bendGain = 0;
+  o.tangentFloor = o.tangentWeight;
+  const std::vector<std::uint8_t> v3 = compress(s.bank, s.d, s.mesh.V, {}, o).bytes;
+  std::vector<std::uint8_t> v2 = v3;
+  ASSERT_EQ(v2[8], 3);
+  v2[8] = 2;
+  const std::size_t payload = 9 + 8;  // after the HEAD tag and length
+  v2.erase(v2.begin() + payload + kHeadFixedBytes - 8, v2.begin() + payload + kHeadFixedBytes);
+  v2[13] = static_cast<std::uint8_t>(v2[13] - 8);  // HEAD length, little-endian (< 256 here)
+  ASSERT_LT(v3[13], 255);
+  fixChecksums(v2);
+  EXPECT_EQ(decode(v2, v2.size()).mesh.V, decode(v3, v3.size()).mesh.V);
+  v2[8] = 1;
+  test::expectContains(test::errorOf([&] { decode(v2, v2.size()); }),
+                       {"test.osz", "format version 1", "reads versions 2 and 3"});
 }
 
 TEST(CodecFuzz, DamagedStreamsDecodeOrThrowError) {

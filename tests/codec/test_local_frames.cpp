@@ -1,6 +1,7 @@
 // Local frames of the coefficients (codec/local_frames.h): orthonormal, the normal of
 // a flat region is its plane's, the along-edge tangent follows the edge, and
-// toWorld inverts toLocal.
+// toWorld inverts toLocal; the bend is 0 where the surface is flat and the spread of
+// the face normals around an edge's ends elsewhere.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -51,6 +52,30 @@ TEST(LocalFrames, ToWorldInvertsToLocal) {
   // every call: the decoder must be able to repeat the encoder.
   const LocalFrames g = edgeFrames(h, 0, Points::Zero(base.V.rows(), 3));
   EXPECT_LT((toWorld(g, toLocal(g, d)) - d).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+TEST(LocalFrames, BendIsZeroWhereFlatAndTheNormalsSpreadElsewhere) {
+  const TriMesh square = test::unitSquare(0.5);
+  const Hierarchy flat(square.F, static_cast<int>(square.V.rows()), 1);
+  EXPECT_LT(edgeFrames(flat, 0, square.V).bend.cwiseAbs().maxCoeff(), 1e-15);
+  // The octahedron's vertex normals are the axes and its face normals (+-1, +-1, +-1)
+  // / sqrt 3: every corner's normals are acos(1 / sqrt 3) apart.
+  const TriMesh octahedron = shapes::byName("octahedron");
+  const Hierarchy h(octahedron.F, static_cast<int>(octahedron.V.rows()), 1);
+  const LocalFrames f = edgeFrames(h, 0, octahedron.V);
+  ASSERT_EQ(f.bend.size(), 12);
+  for (Eigen::Index e = 0; e < f.bend.size(); ++e)
+    EXPECT_NEAR(f.bend[e], std::sqrt(2 - 2 / std::sqrt(3.0)), 1e-14) << e;
+  // Bent further (one tip pulled out), the edges at the tip bend more.
+  Points pulled = octahedron.V;
+  pulled.row(0) *= 3;
+  const LocalFrames g = edgeFrames(h, 0, pulled);
+  for (Eigen::Index e = 0; e < g.bend.size(); ++e) {
+    const auto [a, b] = h.parentEdge(0, static_cast<int>(e));
+    if (a == 0 || b == 0) {
+      EXPECT_GT(g.bend[e], f.bend[e] + 0.1) << e;
+    }
+  }
 }
 
 }  // namespace
