@@ -6,7 +6,7 @@
 #   scripts/codec_docs.sh [BUILD_DIR]   (default: build, configured with
 #                                        -DOSDMRA_BUILD_BENCH=ON; needs libdraco-dev
 #                                        and gnuplot)
-# About 25 minutes on 2 cores. The CSV files stay in docs/compression-data/.
+# About 5 minutes on 2 cores (2026-12-03). The CSV files stay in docs/compression-data/.
 set -eu
 build=${1:-build}
 scans=${SCANS:-../shared/data/scans}
