@@ -179,7 +179,9 @@ int main(int argc, char** argv) try {
   AnalysisOptions options;
   options.approximator = false;
   options.norms = false;
-  const std::string scheme = args.get("scheme", "auto");  // auto: as `osdmra compress`
+  // auto: as `osdmra compress` without a rate (the shorter whole stream); the rows cut
+  // it at every rate.
+  const std::string scheme = args.get("scheme", "auto");
   // The default of `osdmra compress`: fixed wavelets.
   options.wavelets.kind = parseWaveletKind(args.get("wavelets", "fixed"));
   options.wavelets.rings = static_cast<int>(args.integer("rings", options.wavelets.rings, 0, 8));

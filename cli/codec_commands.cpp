@@ -60,6 +60,42 @@ double bitsPerVertex(std::size_t bytes, long long vertices) {
   return 8.0 * static_cast<double>(bytes) / static_cast<double>(vertices);
 }
 
+const char* choiceCriterion(const RateTarget& target) {
+  switch (target.kind) {
+    case RateTarget::Kind::Bytes:
+      return "psnr at the size asked";
+    case RateTarget::Kind::Psnr:
+      return "bytes at the psnr asked";
+    default:
+      return "whole stream bytes";
+  }
+}
+
+void printChoice(const CodingSchemeChoice& c, const RateTarget& target) {
+  const bool loop = c.scheme == Scheme::Loop;
+  if (target.kind == RateTarget::Kind::Bytes)
+    std::printf("scheme %s: %.2f dB at this size, the other's %.2f (--scheme forces one)\n",
+                schemeName(c.scheme), loop ? c.loopPsnr : c.linearPsnr,
+                loop ? c.linearPsnr : c.loopPsnr);
+  else
+    std::printf("scheme %s: its %s is %zu bytes, the other's %zu%s (--scheme forces one)\n",
+                schemeName(c.scheme),
+                target.kind == RateTarget::Kind::Psnr ? "stream at this PSNR" : "whole stream",
+                loop ? c.loopBytes : c.linearBytes, loop ? c.linearBytes : c.loopBytes,
+                (loop ? c.linearBytes : c.loopBytes) == 0 ? " (does not reach it)" : "");
+}
+
+Json choiceJson(const CodingSchemeChoice& c, const RateTarget& target) {
+  Json j = Json::object().add("criterion", choiceCriterion(target));
+  if (target.kind == RateTarget::Kind::Bytes)
+    return j.add("loop_psnr", c.loopPsnr).add("linear_psnr", c.linearPsnr);
+  if (target.kind == RateTarget::Kind::Psnr)
+    return j.add("loop_bytes", static_cast<long long>(c.loopBytes))
+        .add("linear_bytes", static_cast<long long>(c.linearBytes));
+  return j.add("loop_whole_bytes", static_cast<long long>(c.loopBytes))
+      .add("linear_whole_bytes", static_cast<long long>(c.linearBytes));
+}
+
 }  // namespace
 
 int cmdCompress(const Argv& argv) {
@@ -81,17 +117,20 @@ int cmdCompress(const Argv& argv) {
   const auto t0 = Clock::now();
   const LoadedSurface s = loadInput(in, args, opt);
   const double tRead = seconds(t0);
-  // Without --scheme, the one whose whole stream is shorter on this surface.
+  // Without --scheme, the one whose stream is better at the rate asked on this surface
+  // (the surface keeps its vertices: level J has as many).
+  const RateTarget target = rateTarget(args, static_cast<long long>(s.mesh.V.rows()));
   std::optional<CodingSchemeChoice> choice;
-  if (!args.has("scheme")) choice = chooseCodingScheme(s.mesh, options, codec, in);
+  if (!args.has("scheme")) choice = chooseCodingScheme(s.mesh, options, codec, in, target);
   const double tChoose = seconds(t0) - tRead;
   const AnalysedSurface a =
       choice ? std::move(*choice->surface) : AnalysedSurface(s.mesh, options, in, opt.progress);
   const long long vertices = a.hierarchy().numVertices(a.levels());
-  const RateTarget target = rateTarget(args, vertices);
   const auto t1 = Clock::now();
-  const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
-  const double tEncode = seconds(t1);
+  const Compressed z =
+      choice ? std::move(*choice->compressed)
+             : compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+  const double tEncode = choice ? 0.0 : seconds(t1);
   writeFileAtomically(out, [&](std::ostream& o) {
     o.write(reinterpret_cast<const char*>(z.bytes.data()),
             static_cast<std::streamsize>(z.bytes.size()));
@@ -105,21 +144,16 @@ int cmdCompress(const Argv& argv) {
         "%zu bytes\n",
         out.c_str(), z.bytes.size(), bitsPerVertex(z.bytes.size(), vertices), z.psnrSurface,
         z.wholeBytes);
+    if (choice) printChoice(*choice, target);
     if (choice)
-      std::printf(
-          "scheme %s: its whole stream is %zu bytes, the other's %zu (--scheme forces one)\n",
-          schemeName(choice->scheme), std::min(choice->loopBytes, choice->linearBytes),
-          std::max(choice->loopBytes, choice->linearBytes));
-    std::printf("time: read %.3f s, choosing the scheme %.3f s, analysis %.3f s, encoding %.3f s\n",
-                tRead, tChoose, a.times().total(), tEncode);
+      std::printf("time: read %.3f s, both schemes analysed and coded %.3f s\n", tRead, tChoose);
+    else
+      std::printf("time: read %.3f s, analysis %.3f s, encoding %.3f s\n", tRead, a.times().total(),
+                  tEncode);
     return 0;
   }
   Json j = startJson(s);
-  if (choice)
-    j.add("scheme_choice",
-          Json::object()
-              .add("loop_whole_bytes", static_cast<long long>(choice->loopBytes))
-              .add("linear_whole_bytes", static_cast<long long>(choice->linearBytes)));
+  if (choice) j.add("scheme_choice", choiceJson(*choice, target));
   std::cout << j.add("command", "compress")
                    .add("input", in)
                    .add("output", out)
@@ -138,6 +172,7 @@ int cmdCompress(const Argv& argv) {
                    .add("bit_planes", z.planes)
                    .add("seconds", Json::object()
                                        .add("read", tRead)
+                                       .add("choose_scheme", tChoose)
                                        .add("analysis", a.times().total())
                                        .add("encode", tEncode))
                    .str()

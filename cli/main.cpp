@@ -149,9 +149,10 @@ commands:
                                --remesh as for analyze; wavelets fixed by default
                                (quasi-wavelets' weights of the regular lattice: no
                                solve when decoding), or W = quasi (with --rings), lazy;
-                               scheme S loop or linear, by default the one whose whole
-                               stream is shorter on this surface (Loop on smooth ones,
-                               linear on remeshes of scans, flat in each input triangle);
+                               scheme S loop or linear, by default the one whose stream
+                               is better at the rate asked (the closer at a size, the
+                               shorter at a PSNR, the shorter whole stream otherwise):
+                               linear on remeshes of scans, flat in each input triangle;
                                tangential components weighted by the surface's bend,
                                clamp(K bend, F, W), defaults 0.5, 1/16, 0.25
   decompress IN.osz -o OUT [--bytes N]

@@ -339,22 +339,61 @@ LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions&
   return e;
 }
 
+namespace {
+
+// Whether a scheme's stream at the target is better than the other's: at a size the
+// closer one, else the shorter; a stream that cannot meet a PSNR target loses.
+bool better(const std::optional<Compressed>& a, const std::optional<Compressed>& b,
+            const RateTarget& target) {
+  if (!a || !b) return a.has_value();
+  if (target.kind == RateTarget::Kind::Bytes) return a->psnrSurface > b->psnrSurface;
+  if (target.kind == RateTarget::Kind::Whole) return a->wholeBytes < b->wholeBytes;
+  return a->bytes.size() < b->bytes.size();
+}
+
+}  // namespace
+
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
-                                      CodecOptions codec, const std::string& source) {
-  codec.measureSurface = false;
+                                      CodecOptions codec, const std::string& source,
+                                      const RateTarget& target) {
+  const bool whole = target.kind == RateTarget::Kind::Whole;
+  const bool measureWinner = codec.measureSurface;
+  // What the choice needs: at a size both distances; at a PSNR the search measures
+  // anyway; whole streams only their sizes.
+  codec.measureSurface = !whole && (target.kind == RateTarget::Kind::Bytes || measureWinner);
   auto analysed = [&](Scheme scheme) {
     options.scheme = scheme;
     return AnalysedSurface(mesh, options, source);
   };
-  auto wholeStream = [&](const AnalysedSurface& a) {
-    return compress(a.bank(), a.decomposition(), a.canonicalPositions(), {}, codec).wholeBytes;
+  // The stream at the target, or none where the whole stream cannot reach a PSNR asked.
+  auto coded = [&](const AnalysedSurface& a) -> std::optional<Compressed> {
+    try {
+      return compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+    } catch (const Error&) {
+      if (target.kind != RateTarget::Kind::Psnr) throw;
+      return std::nullopt;
+    }
   };
-  CodingSchemeChoice c;
   AnalysedSurface loop = analysed(Scheme::Loop), linear = analysed(Scheme::Linear);
-  c.loopBytes = wholeStream(loop);
-  c.linearBytes = wholeStream(linear);
-  c.scheme = c.linearBytes < c.loopBytes ? Scheme::Linear : Scheme::Loop;
+  std::optional<Compressed> byLoop = coded(loop), byLinear = coded(linear);
+  if (!byLoop && !byLinear)  // neither reaches the PSNR: say so as compress does
+    compress(loop.bank(), loop.decomposition(), loop.canonicalPositions(), target, codec);
+  CodingSchemeChoice c;
+  c.loopBytes = byLoop ? (whole ? byLoop->wholeBytes : byLoop->bytes.size()) : 0;
+  c.linearBytes = byLinear ? (whole ? byLinear->wholeBytes : byLinear->bytes.size()) : 0;
+  if (target.kind == RateTarget::Kind::Bytes) {
+    c.loopPsnr = byLoop->psnrSurface;
+    c.linearPsnr = byLinear->psnrSurface;
+  }
+  c.scheme = better(byLinear, byLoop, target) ? Scheme::Linear : Scheme::Loop;
   c.surface.emplace(std::move(c.scheme == Scheme::Linear ? linear : loop));
+  c.compressed = std::move(c.scheme == Scheme::Linear ? byLinear : byLoop);
+  // The whole stream was coded without its surface distance; measure the winner's.
+  if (whole && measureWinner) {
+    codec.measureSurface = true;
+    const AnalysedSurface& a = *c.surface;
+    c.compressed = compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+  }
   return c;
 }
 

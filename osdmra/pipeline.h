@@ -16,6 +16,7 @@
 // from a file to a decomposition or a level of detail.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -219,19 +220,30 @@ class AnalysedSurface {
 };
 
 /// The scheme a surface codes better with (`osdmra compress` without --scheme): each
-/// analyses `mesh` and codes its whole stream at `codec`'s precision, which bounds the
-/// error either way; the shorter stream wins. Loop wins on smooth surfaces (the bundled
-/// head); the polyhedral scheme on remeshes of scans, flat inside every input
-/// triangle, where a midpoint predicts the new vertex exactly and Loop's smoothing does
-/// not (docs/COMPRESSION.md). Costs two analyses and two codings, no distance.
+/// analyses `mesh` and codes it, and the better stream at the rate asked wins: at a
+/// size (RateTarget::Kind::Bytes) the one closer to `mesh` by the sampled surface
+/// distance, at a PSNR the shorter one, and for the whole stream the shorter whole
+/// stream at `codec`'s precision (which bounds the error either way, though not
+/// equally: Loop's synthesis averages quantisation errors where the polyhedral
+/// scheme's does not). The polyhedral scheme wins at every rate on remeshes of scans,
+/// flat inside every input triangle, where a midpoint predicts the new vertex exactly
+/// and Loop's smoothing does not; on the bundled head Loop wins at low rates and the
+/// two are level from 1.5 bits per vertex up (docs/COMPRESSION.md). Costs two analyses
+/// and two codings: at a PSNR two searches, at a size one more surface distance.
 struct CodingSchemeChoice {
   Scheme scheme = Scheme::Loop;
-  std::size_t loopBytes = 0, linearBytes = 0;  ///< the whole streams
+  /// What the choice compared: the streams' sizes (whole, or cut at a PSNR), and at a
+  /// size their surface PSNR (NaN otherwise).
+  std::size_t loopBytes = 0, linearBytes = 0;
+  double loopPsnr = std::numeric_limits<double>::quiet_NaN(), linearPsnr = loopPsnr;
   /// The surface analysed with `scheme`, ready to code (not analysed again).
   std::optional<AnalysedSurface> surface;
+  /// Its stream at the target with `codec`'s options (a PSNR measured as they say).
+  std::optional<Compressed> compressed;
 };
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
-                                      CodecOptions codec, const std::string& source = "");
+                                      CodecOptions codec, const std::string& source = "",
+                                      const RateTarget& target = RateTarget::whole());
 
 // ---- A level of detail of any mesh, for a budget ---------------------------------------
 

@@ -640,7 +640,45 @@ TEST(ChooseCodingScheme, TheSchemeThatRefinedTheSurfaceCodesItShorter) {
     EXPECT_EQ(c.scheme == Scheme::Linear, c.linearBytes < c.loopBytes);
     EXPECT_GT(c.loopBytes, 0u);
     EXPECT_GT(c.linearBytes, 0u);
+    ASSERT_TRUE(c.compressed.has_value());
+    EXPECT_EQ(c.compressed->wholeBytes, std::min(c.loopBytes, c.linearBytes));
   }
+}
+
+// At a rate asked, the choice compares the two streams there: at a size the closer to
+// the surface (both measured), at a PSNR the shorter that reaches it; and the stream it
+// returns is the winner's, cut at that rate.
+TEST(ChooseCodingScheme, ComparesTheStreamsAtTheRateAsked) {
+  AnalysisOptions options;
+  options.approximator = false;
+  options.norms = false;
+  options.wavelets = {WaveletKind::Fixed, 0};
+  CodecOptions codec;
+  codec.distance.samples = 5000;
+  const TriMesh mesh = subdivide(shapes::icosahedron(), 4, Scheme::Loop, 0.005, 3);
+  const std::size_t size = 600;
+  const CodingSchemeChoice bySize =
+      chooseCodingScheme(mesh, options, codec, "", RateTarget::bytes(size));
+  ASSERT_TRUE(std::isfinite(bySize.loopPsnr) && std::isfinite(bySize.linearPsnr));
+  EXPECT_EQ(bySize.scheme == Scheme::Linear, bySize.linearPsnr > bySize.loopPsnr);
+  ASSERT_TRUE(bySize.compressed.has_value());
+  EXPECT_LE(bySize.compressed->bytes.size(), size);
+  EXPECT_EQ(bySize.compressed->psnrSurface, std::max(bySize.loopPsnr, bySize.linearPsnr));
+  EXPECT_EQ(bySize.surface->bank().scheme, bySize.scheme);
+
+  const double dB = bySize.compressed->psnrSurface;
+  const CodingSchemeChoice byPsnr =
+      chooseCodingScheme(mesh, options, codec, "", RateTarget::psnr(dB));
+  EXPECT_EQ(byPsnr.scheme == Scheme::Linear, byPsnr.linearBytes < byPsnr.loopBytes);
+  ASSERT_TRUE(byPsnr.compressed.has_value());
+  EXPECT_EQ(byPsnr.compressed->bytes.size(), std::min(byPsnr.loopBytes, byPsnr.linearBytes));
+  EXPECT_GE(byPsnr.compressed->psnrSurface, dB);
+  // The winner at a size reaches its own PSNR within that size.
+  EXPECT_LE(byPsnr.compressed->bytes.size(), size);
+
+  test::expectContains(
+      test::errorOf([&] { chooseCodingScheme(mesh, options, codec, "", RateTarget::psnr(300)); }),
+      {"below the target"});
 }
 
 // On a mesh read once (the bench's scans), lodForBudget gives what it gives on the file.
