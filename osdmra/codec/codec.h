@@ -76,7 +76,11 @@ struct CodecOptions {
   /// +0.72 to +2.73 where the streams stay under the whole stream's precision (about
   /// 109 dB; there, where the constant weight reached 109.7-112.6 dB, 0.1-2.0 dB
   /// less: the floor's step is the whole stream's tangential precision); on the head
-  /// with Loop -0.04 / +0.15 / +0.46 and +1.20 / +1.21 at 7 / 10. Tried alongside (the
+  /// with Loop -0.04 / +0.15 / +0.46 and +1.20 / +1.21 at 7 / 10. On six meshes never
+  /// used for tuning (J = 5 over 300 faces; odedstein's hand and lion statue, libigl's
+  /// bunny and camel, alecjacobson's homer and nefertiti; 16:36-16:40 UTC), at 0.75 /
+  /// 1.5 / 3.5 / 5: -0.13 to +0.28 / -0.11 to +0.97 / +0.01 to +2.37 / +0.21 to +3.10
+  /// (the lion statue -0.13 / -0.11 / +0.01 / +0.21). Tried alongside (the
   /// head, the bunny, armadillo and spot): a floor of 1/32 or 1/8, a gain of 0.25 or 1,
   /// and no cap (tangentWeight 1), each worse on some of them.
   ///
