@@ -82,7 +82,9 @@ void printChoice(const CodingSchemeChoice& c, const RateTarget& target) {
                 schemeName(c.scheme),
                 target.kind == RateTarget::Kind::Psnr ? "stream at this PSNR" : "whole stream",
                 loop ? c.loopBytes : c.linearBytes, loop ? c.linearBytes : c.loopBytes,
-                (loop ? c.linearBytes : c.loopBytes) == 0 ? " (does not reach it)" : "");
+                (loop ? c.linearBytes : c.loopBytes) == 0
+                    ? " (not searched: short of the PSNR at this length)"
+                    : "");
 }
 
 Json choiceJson(const CodingSchemeChoice& c, const RateTarget& target) {

@@ -351,6 +351,15 @@ bool better(const std::optional<Compressed>& a, const std::optional<Compressed>&
   return a->bytes.size() < b->bytes.size();
 }
 
+// Whether the stream of `a` cut to `bytes` reaches the PSNR `target` asks for.
+bool reaches(const AnalysedSurface& a, std::size_t bytes, const RateTarget& target,
+             CodecOptions codec) {
+  codec.measureSurface = target.measure == PsnrMeasure::Surface;
+  const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(),
+                                RateTarget::bytes(static_cast<double>(bytes)), codec);
+  return (codec.measureSurface ? z.psnrSurface : z.psnrVertices) >= target.value;
+}
+
 }  // namespace
 
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
@@ -375,7 +384,12 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
     }
   };
   AnalysedSurface loop = analysed(Scheme::Loop), linear = analysed(Scheme::Linear);
-  std::optional<Compressed> byLoop = coded(loop), byLinear = coded(linear);
+  std::optional<Compressed> byLinear = coded(linear), byLoop;
+  // At a PSNR, Loop searches only where its stream of the polyhedral one's length
+  // reaches it (the polyhedral scheme wins on scans' remeshes: one search, not two).
+  if (target.kind != RateTarget::Kind::Psnr || !byLinear ||
+      reaches(loop, byLinear->bytes.size(), target, codec))
+    byLoop = coded(loop);
   if (!byLoop && !byLinear)  // neither reaches the PSNR: say so as compress does
     compress(loop.bank(), loop.decomposition(), loop.canonicalPositions(), target, codec);
   CodingSchemeChoice c;

@@ -229,11 +229,14 @@ class AnalysedSurface {
 /// flat inside every input triangle, where a midpoint predicts the new vertex exactly
 /// and Loop's smoothing does not; on the bundled head Loop wins at low rates and the
 /// two are level from 1.5 bits per vertex up (docs/COMPRESSION.md). Costs two analyses
-/// and two codings: at a PSNR two searches, at a size one more surface distance.
+/// and two codings; at a size one more surface distance; at a PSNR the polyhedral
+/// scheme's search and one distance of Loop's stream at that length, and Loop's search
+/// only where that reaches the PSNR.
 struct CodingSchemeChoice {
   Scheme scheme = Scheme::Loop;
-  /// What the choice compared: the streams' sizes (whole, or cut at a PSNR), and at a
-  /// size their surface PSNR (NaN otherwise).
+  /// What the choice compared: the streams' sizes (whole, or cut at a PSNR: 0 for a
+  /// scheme not searched, whose stream did not reach the PSNR at the other's length or
+  /// at all), and at a size their surface PSNR (NaN otherwise).
   std::size_t loopBytes = 0, linearBytes = 0;
   double loopPsnr = std::numeric_limits<double>::quiet_NaN(), linearPsnr = loopPsnr;
   /// The surface analysed with `scheme`, ready to code (not analysed again).
