@@ -55,7 +55,10 @@ struct CodecOptions {
   /// 2.5 were worse than both. Over the other ten shared scans' remeshes, not uniform:
   /// on average +0.04 / +0.50 / +0.32 dB at 0.75 / 1.5 / 2.5, better on six or seven
   /// (up to +1.8), worse on the cow, the decimated knight and the screwdriver (-0.6 to
-  /// -1.0 at 1.5 and 2.5) and bumpy-cube at 1.5 (-0.2).
+  /// -1.0 at 1.5 and 2.5) and bumpy-cube at 1.5 (-0.2). Measured again with the bend's
+  /// tangential weights (2026-12-03; the head, the bunny's, the rocker arm's and the
+  /// elephant's remeshes): 1.75 is 0.3-0.6 dB better at 0.75 bits per vertex and 0.1-0.4
+  /// worse from 3.5 up; 1.25 is 0.1-2.2 dB worse at 0.75 and within -1.2 / +0.2 above.
   double levelGain = 1.5;
   /// Tangential components are weighted relative to the normal one by how much the
   /// coarser surface bends at their edge (LocalFrames::bend, b): w = clamp(bendGain
