@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
 """Writes docs/COMPRESSION.md and its plots from the CSV files of bench/codec_rd.cpp.
 
-    scripts/codec_docs.py OUT.md IMAGE_DIR RUN.csv...   (called by scripts/codec_docs.sh)
+    scripts/codec_docs.py OUT.md IMAGE_DIR RUN.csv... [--unseen RUN.csv...]
+                                                      (called by scripts/codec_docs.sh)
 
-Each CSV holds one mesh: osdmra's streams cut at a range of bits per vertex and Draco's
+The runs after --unseen (meshes never used for tuning) get a summary row each and
+their targets checked, without plots; paths that do not exist are skipped. Each CSV
+holds one mesh: osdmra's streams cut at a range of bits per vertex and Draco's
 at 8..16 quantisation bits, each measured by sampled surface distance against the same
 full-resolution mesh. "Equal PSNR" sizes are interpolated linearly in PSNR against
 log(bytes) between the measured streams of each codec, never extrapolated.
@@ -98,17 +101,9 @@ def targets(runs):
     return out
 
 
-def main():
-    out, images, paths = sys.argv[1], sys.argv[2], sys.argv[3:]
-    runs = [(load(p), p) for p in paths]
+def summary(runs):
+    """The summary table: one row per run."""
     md = []
-    md.append("# Compression: the progressive wavelet geometry codec\n")
-    md.append(open(os.path.join(os.path.dirname(__file__), "codec_docs_intro.md")).read())
-    md.append("## Summary\n")
-    md.append("PSNR is 20 log10(diagonal / RMS) with the sampled symmetric RMS distance "
-              "(`surfaceDistance`, 200,000 samples a side plus the vertices) to the "
-              "full-resolution mesh; bits per vertex count every byte of the stream "
-              "(connectivity included on both sides) over the full-resolution vertices.\n")
     md.append("| mesh | vertices | osdmra at 0.75 / 1.5 / 3.5 bpv (dB) | "
               + " | ".join(f"bytes vs Draco at {d} dB" for d in range(60, 95, 5))
               + " | encode / decode (M vertices/s), osdmra | Draco |")
@@ -130,6 +125,24 @@ def main():
                   + " | " + " | ".join(ratios)
                   + f" | {speed('osdmra', 'encode_seconds'):.2f} / {speed('osdmra', 'decode_seconds'):.2f}"
                   + f" | {speed('draco', 'encode_seconds'):.2f} / {speed('draco', 'decode_seconds'):.2f} |")
+    return md
+
+
+def main():
+    out, images, paths = sys.argv[1], sys.argv[2], sys.argv[3:]
+    unseen_paths = paths[paths.index("--unseen") + 1:] if "--unseen" in paths else []
+    paths = paths[:paths.index("--unseen")] if "--unseen" in paths else paths
+    runs = [(load(p), p) for p in paths]
+    unseen = [(load(p), p) for p in unseen_paths if os.path.exists(p)]
+    md = []
+    md.append("# Compression: the progressive wavelet geometry codec\n")
+    md.append(open(os.path.join(os.path.dirname(__file__), "codec_docs_intro.md")).read())
+    md.append("## Summary\n")
+    md.append("PSNR is 20 log10(diagonal / RMS) with the sampled symmetric RMS distance "
+              "(`surfaceDistance`, 200,000 samples a side plus the vertices) to the "
+              "full-resolution mesh; bits per vertex count every byte of the stream "
+              "(connectivity included on both sides) over the full-resolution vertices.\n")
+    md.extend(summary(runs))
     md.append("")
     md.extend(targets(runs))
     md.append("\n\"bytes vs Draco\": osdmra's bytes over Draco's at the same PSNR (the target "
@@ -138,6 +151,16 @@ def main():
               "Speeds are medians over the streams of the run; osdmra's encoding includes "
               "recovering the structure and the analysis, its decoding the refinement of the "
               "hierarchy and the wavelet corrections.\n")
+    if unseen:
+        md.append("## Meshes never used for tuning\n")
+        md.append("J = 5 remeshes over 300 base faces of meshes from the three public sets "
+                  "that docs/REMESH.md and docs/LOD.md use as never seen "
+                  "(`scripts/fetch_unseen.sh DIR`, then `UNSEEN=DIR scripts/codec_docs.sh`), "
+                  "named set-mesh; the same measurements, stated as they come out.\n")
+        md.extend(summary(unseen))
+        md.append("")
+        md.extend(targets(unseen))
+        md.append("")
     for rows, _ in runs:
         name = rows[0]["mesh"]
         png = os.path.join(images, f"compression-{name}.png")

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Regenerates docs/COMPRESSION.md and its plots: rate-distortion of osdmra's codec and
 # of Draco on the bundled head (both schemes) and on J = 5 remeshes (about 300 base
-# faces) of five public scans of ../shared/data/scans (or $SCANS).
+# faces) of five public scans of ../shared/data/scans (or $SCANS), and with UNSEEN=DIR
+# (scripts/fetch_unseen.sh DIR) of six meshes never used for tuning.
 #
 #   scripts/codec_docs.sh [BUILD_DIR]   (default: build, configured with
 #                                        -DOSDMRA_BUILD_BENCH=ON; needs libdraco-dev
@@ -34,5 +35,18 @@ for name in stanford-bunny spot rocker-arm fandisk armadillo; do
     --csv "$work/$(printf %02d $i)-$name.csv"
   i=$((i + 1))
 done
-python3 scripts/codec_docs.py docs/COMPRESSION.md docs/images "$work"/*.csv
+# Meshes never used for tuning (scripts/fetch_unseen.sh DIR; UNSEEN=DIR): the same
+# comparison, a summary row each. Without UNSEEN the rows of the last run stay.
+if [ -n "${UNSEEN:-}" ]; then
+  rm -f "$work"/unseen/*.csv
+  mkdir -p "$work/unseen"
+  for path in odedstein/hand_closed.obj odedstein/lionstatue.obj libigl/bunny.off \
+    libigl/camel_b.obj alecjacobson/homer.obj alecjacobson/nefertiti.obj; do
+    name="$(dirname "$path")-$(basename "$path" | sed 's/\.[a-z]*$//')"
+    "$rd" "$UNSEEN/$path" --remesh --base-faces 300 --levels 5 --name "$name" \
+      --csv "$work/unseen/$name.csv"
+  done
+fi
+python3 scripts/codec_docs.py docs/COMPRESSION.md docs/images "$work"/*.csv \
+  --unseen "$work"/unseen/*.csv
 echo "wrote docs/COMPRESSION.md"
