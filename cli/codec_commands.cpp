@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <optional>
 
 #include "commands.h"
@@ -77,23 +78,28 @@ void printChoice(const CodingSchemeChoice& c, const RateTarget& target) {
     std::printf("scheme %s: %.2f dB at this size, the other's %.2f (--scheme forces one)\n",
                 schemeName(c.scheme), loop ? c.loopPsnr : c.linearPsnr,
                 loop ? c.linearPsnr : c.loopPsnr);
+  else if ((loop ? c.linearBytes : c.loopBytes) == 0)  // the other not searched
+    std::printf(
+        "scheme %s: its stream at this PSNR is %zu bytes; the other's does not reach the "
+        "PSNR at that length (--scheme forces one)\n",
+        schemeName(c.scheme), loop ? c.loopBytes : c.linearBytes);
   else
-    std::printf("scheme %s: its %s is %zu bytes, the other's %zu%s (--scheme forces one)\n",
+    std::printf("scheme %s: its %s is %zu bytes, the other's %zu (--scheme forces one)\n",
                 schemeName(c.scheme),
                 target.kind == RateTarget::Kind::Psnr ? "stream at this PSNR" : "whole stream",
-                loop ? c.loopBytes : c.linearBytes, loop ? c.linearBytes : c.loopBytes,
-                (loop ? c.linearBytes : c.loopBytes) == 0
-                    ? " (not searched: short of the PSNR at this length)"
-                    : "");
+                loop ? c.loopBytes : c.linearBytes, loop ? c.linearBytes : c.loopBytes);
 }
 
 Json choiceJson(const CodingSchemeChoice& c, const RateTarget& target) {
   Json j = Json::object().add("criterion", choiceCriterion(target));
   if (target.kind == RateTarget::Kind::Bytes)
     return j.add("loop_psnr", c.loopPsnr).add("linear_psnr", c.linearPsnr);
+  // null for a scheme not searched (short of the PSNR at the other's length).
+  const auto size = [](std::size_t b) {
+    return b ? static_cast<double>(b) : std::numeric_limits<double>::quiet_NaN();
+  };
   if (target.kind == RateTarget::Kind::Psnr)
-    return j.add("loop_bytes", static_cast<long long>(c.loopBytes))
-        .add("linear_bytes", static_cast<long long>(c.linearBytes));
+    return j.add("loop_bytes", size(c.loopBytes)).add("linear_bytes", size(c.linearBytes));
   return j.add("loop_whole_bytes", static_cast<long long>(c.loopBytes))
       .add("linear_whole_bytes", static_cast<long long>(c.linearBytes));
 }
