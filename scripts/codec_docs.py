@@ -142,9 +142,7 @@ def main():
               "(`surfaceDistance`, 200,000 samples a side plus the vertices) to the "
               "full-resolution mesh; bits per vertex count every byte of the stream "
               "(connectivity included on both sides) over the full-resolution vertices.\n")
-    md.extend(summary(runs))
-    md.append("")
-    md.extend(targets(runs))
+    md.extend(summary(runs) + [""] + targets(runs))
     md.append("\n\"bytes vs Draco\": osdmra's bytes over Draco's at the same PSNR (the target "
               "is at most 0.33); n/a where one codec's measured streams do not reach that "
               "PSNR (Draco's coarsest, 8 bits, is already above 60 dB on most meshes). "
@@ -157,10 +155,7 @@ def main():
                   "that docs/REMESH.md and docs/LOD.md use as never seen "
                   "(`scripts/fetch_unseen.sh DIR`, then `UNSEEN=DIR scripts/codec_docs.sh`), "
                   "named set-mesh; the same measurements, stated as they come out.\n")
-        md.extend(summary(unseen))
-        md.append("")
-        md.extend(targets(unseen))
-        md.append("")
+        md.extend(summary(unseen) + [""] + targets(unseen) + [""])
     for rows, _ in runs:
         name = rows[0]["mesh"]
         png = os.path.join(images, f"compression-{name}.png")
