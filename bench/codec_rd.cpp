@@ -28,6 +28,7 @@
 
 #include "allocator.h"
 #include "args.h"
+#include "common.h"
 #include "osdmra/base/file.h"
 #include "osdmra/codec/codec.h"
 #include "osdmra/geometry/distance.h"
@@ -187,11 +188,7 @@ int main(int argc, char** argv) try {
   options.wavelets.rings = static_cast<int>(args.integer("rings", options.wavelets.rings, 0, 8));
   if (options.wavelets.kind != WaveletKind::Quasi) options.wavelets.rings = 0;
   CodecOptions codec;
-  codec.tangentWeight = args.real("tangent-weight", codec.tangentWeight, 1e-3, 1);
-  codec.tangentFloor = args.real("tangent-floor", std::min(codec.tangentFloor, codec.tangentWeight),
-                                 1e-3, codec.tangentWeight);
-  codec.bendGain = args.real("bend-gain", codec.bendGain, 0, 1e6);
-  codec.levelGain = args.real("level-gain", codec.levelGain, 1, 4);
+  cli::readCodecWeights(args, codec);
   codec.measureSurface = false;  // measured below, outside the timing
   options.scheme =
       scheme == "auto" ? chooseCodingScheme(s.mesh, options, codec).scheme : parseScheme(scheme);

@@ -39,11 +39,7 @@ RateTarget rateTarget(const Args& args, long long vertices) {
 CodecOptions codecOptions(const Args& args) {
   CodecOptions o;
   o.precision = args.real("precision", o.precision, 1e-9, 0.5);
-  o.tangentWeight = args.real("tangent-weight", o.tangentWeight, 1e-3, 1);
-  o.tangentFloor =
-      args.real("tangent-floor", std::min(o.tangentFloor, o.tangentWeight), 1e-3, o.tangentWeight);
-  o.bendGain = args.real("bend-gain", o.bendGain, 0, 1e6);
-  o.levelGain = args.real("level-gain", o.levelGain, 1, 4);
+  readCodecWeights(args, o);
   o.distance = distanceOptions(args);
   return o;
 }

@@ -3,6 +3,7 @@
 // and the surface a command works on (the pipeline's input, osdmra/pipeline.h).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 #include <string>
@@ -47,6 +48,16 @@ constexpr AnalysisDefaults kSweepDefaults{"linear", "levels"};
 /// --levels, --scheme, --wavelets, --rings, --importance, --exact, --selection,
 /// --placement, --metric.
 AnalysisOptions analysisOptions(const Args& args, const AnalysisDefaults& defaults = {});
+/// The codec's weights in `o` from --tangent-weight, --tangent-floor (by default the
+/// smaller of its own and the weight), --bend-gain and --level-gain (compress and the
+/// codec's bench, which links none of the front end's sources: inline).
+inline void readCodecWeights(const Args& args, CodecOptions& o) {
+  o.tangentWeight = args.real("tangent-weight", o.tangentWeight, 1e-3, 1);
+  o.tangentFloor =
+      args.real("tangent-floor", std::min(o.tangentFloor, o.tangentWeight), 1e-3, o.tangentWeight);
+  o.bendGain = args.real("bend-gain", o.bendGain, 0, 1e6);
+  o.levelGain = args.real("level-gain", o.levelGain, 1, 4);
+}
 
 /// loadSurface() on the command's input, with --remesh when given; remeshing
 /// warnings go to stderr as they come.

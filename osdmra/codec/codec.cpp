@@ -42,9 +42,8 @@ std::array<double, 3> componentSteps(const OszHeader& h, int j, const LocalFrame
 
 // The detail vectors of level j from per-component values in steps (row e, component
 // c at 3e + c), in the frames of c^j.
-Points detailsFromSteps(const OszHeader& h, const Hierarchy& hier, int j, const Points& coarse,
+Points detailsFromSteps(const OszHeader& h, int j, const LocalFrames& frames,
                         const std::vector<double>& steps) {
-  const LocalFrames frames = edgeFrames(hier, j, coarse);
   Points local(frames.normal.rows(), 3);
   for (Eigen::Index e = 0; e < local.rows(); ++e) {
     const std::array<double, 3> unit = componentSteps(h, j, frames, e);
@@ -54,9 +53,8 @@ Points detailsFromSteps(const OszHeader& h, const Hierarchy& hier, int j, const 
 }
 
 // Level j's coefficients as integers of steps in the frames of the decoder's c^j.
-std::vector<std::int32_t> quantiseLevel(const OszHeader& h, const Hierarchy& hier, int j,
-                                        const Points& coarse, const Points& detail) {
-  const LocalFrames frames = edgeFrames(hier, j, coarse);
+std::vector<std::int32_t> quantiseLevel(const OszHeader& h, int j, const LocalFrames& frames,
+                                        const Points& detail) {
   const Points local = toLocal(frames, detail);
   std::vector<std::int32_t> q(3 * static_cast<std::size_t>(local.rows()));
   const double limit = std::ldexp(1.0, kMaxPlanes) - 1;
@@ -150,7 +148,8 @@ BaseMesh decodeBase(const OszHeader& h, const std::vector<std::uint8_t>& bytes,
 Points rebuild(const FilterBank& bank, const OszHeader& h, Points c,
                const std::vector<std::vector<double>>& steps) {
   for (int j = 0; j < h.levels; ++j)
-    c = synthesisStep(bank, j, c, detailsFromSteps(h, *bank.hierarchy, j, c, steps[j]));
+    c = synthesisStep(bank, j, c,
+                      detailsFromSteps(h, j, edgeFrames(*bank.hierarchy, j, c), steps[j]));
   return c;
 }
 
@@ -223,10 +222,11 @@ Encoding encode(const FilterBank& bank, const Decomposition& d, const Points& fi
   QuantisedLevels q(h.levels);
   Points c = out.base;
   for (int j = 0; j < h.levels; ++j) {
-    q[j] = quantiseLevel(h, hier, j, c, d.details[j]);
+    const LocalFrames frames = edgeFrames(hier, j, c);  // once for both directions
+    q[j] = quantiseLevel(h, j, frames, d.details[j]);
     std::vector<double> steps(q[j].size());
     std::transform(q[j].begin(), q[j].end(), steps.begin(), reconstructed);
-    c = synthesisStep(bank, j, c, detailsFromSteps(h, hier, j, c, steps));
+    c = synthesisStep(bank, j, c, detailsFromSteps(h, j, frames, steps));
   }
   h.topPlane = topPlane(q);
   out.tree = edgeTree(hier);

@@ -11,15 +11,22 @@ namespace {
 
 using Vec3 = Eigen::RowVector3d;
 
-// Area-weighted vertex normals: the sum of the cross products of the faces around
-// each vertex (each twice its face's area).
-Points vertexNormals(const Faces& F, const Points& c) {
-  Points N = Points::Zero(c.rows(), 3);
+// Each face's cross product of two edges (twice its area along its normal).
+Points faceCrossProducts(const Faces& F, const Points& c) {
+  Points n(F.rows(), 3);
   for (int f = 0; f < F.rows(); ++f) {
     const Vec3 a = c.row(F(f, 0)), b = c.row(F(f, 1)), d = c.row(F(f, 2));
-    const Vec3 n = (b - a).cross(d - a);
-    for (int i = 0; i < 3; ++i) N.row(F(f, i)) += n;
+    n.row(f) = (b - a).cross(d - a);
   }
+  return n;
+}
+
+// Area-weighted vertex normals: the sum of the cross products of the faces around
+// each vertex.
+Points vertexNormals(const Faces& F, const Points& crosses, Eigen::Index vertices) {
+  Points N = Points::Zero(vertices, 3);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int i = 0; i < 3; ++i) N.row(F(f, i)) += crosses.row(f);
   return N;
 }
 
@@ -32,18 +39,17 @@ bool normalise(Vec3& v) {
 }
 
 // Per vertex, the largest distance between the unit normal of a face around it and
-// its own unit normal (from the area-weighted sums N); 0 for a vertex or face too
-// degenerate to have a normal.
-Eigen::VectorXd normalSpread(const Faces& F, const Points& c, const Points& N) {
+// its own unit normal (from the faces' cross products and their sums N); 0 for a
+// vertex or face too degenerate to have a normal.
+Eigen::VectorXd normalSpread(const Faces& F, const Points& crosses, const Points& N) {
   Points unit = N;
   for (Eigen::Index v = 0; v < unit.rows(); ++v) {
     Vec3 n = unit.row(v);
     unit.row(v) = normalise(n) ? n : Vec3::Zero();
   }
-  Eigen::VectorXd spread = Eigen::VectorXd::Zero(c.rows());
+  Eigen::VectorXd spread = Eigen::VectorXd::Zero(N.rows());
   for (int f = 0; f < F.rows(); ++f) {
-    const Vec3 a = c.row(F(f, 0));
-    Vec3 n = (c.row(F(f, 1)) - a).cross(c.row(F(f, 2)) - a);
+    Vec3 n = crosses.row(f);
     if (!normalise(n)) continue;
     for (int i = 0; i < 3; ++i) {
       const int v = F(f, i);
@@ -61,8 +67,9 @@ LocalFrames edgeFrames(const Hierarchy& h, int j, const Points& c) {
     throw Error("edgeFrames: level " + std::to_string(j) + " needs " +
                 (j >= 0 && j <= h.levels() ? std::to_string(h.numVertices(j)) : "valid") +
                 " control points");
-  const Points N = vertexNormals(h.faces(j), c);
-  const Eigen::VectorXd spread = normalSpread(h.faces(j), c, N);
+  const Points crosses = faceCrossProducts(h.faces(j), c);
+  const Points N = vertexNormals(h.faces(j), crosses, c.rows());
+  const Eigen::VectorXd spread = normalSpread(h.faces(j), crosses, N);
   const int E = h.numVertices(j + 1) - h.numVertices(j);
   LocalFrames f{Points(E, 3), Points(E, 3), Points(E, 3), Eigen::VectorXd(E)};
   for (int e = 0; e < E; ++e) {
