@@ -78,6 +78,7 @@ commands:
                  [--min-component-faces F] [--max-faces M] [--smoothing-sweeps S]
                  [--stages auto|vertex|mesh] [--retriangulation shape|error]
                  [--skinny-where-flat F] [--cap-angle A] [--base-splits on|off]
+                 [--grid-refinement on|off]
                                any manifold triangle mesh (any genus, boundaries) to
                                subdivision connectivity: a base of about N faces
                                (default 300) split J times (default 5), positions
@@ -119,7 +120,12 @@ commands:
                                where the base is over N anyway and defects are
                                left, within 10% of the base made, and kept where
                                fewer are left (--base-splits off: never; lod
-                               --remesh --budget never splits);
+                               --remesh --budget never splits); each base
+                               face's grid is made level by level in its
+                               domain, a point of a triangle that would fold
+                               stepped where it folds fewer, the map kept a
+                               bijection (--grid-refinement off: the uniform
+                               grid);
                                --samples N: samples a side of the distance to
                                the input it reports (default 100000)
   sweep IN --csv OUT.csv [--plot OUT.png] [--points K] [lod's options]

@@ -1,6 +1,6 @@
 // The remesher's command-line options (--base-faces, --levels, --feature-angle,
 // --max-faces, --smoothing-sweeps, --stages, --retriangulation, --skinny-where-flat,
-// --cap-angle, --base-splits)
+// --cap-angle, --base-splits, --grid-refinement)
 // and those of the
 // distance it reports (--samples, --seed), read the same way by the tool and the
 // viewer.
@@ -20,7 +20,8 @@ namespace osdmra::cli {
 // all of them.
 inline std::set<std::string> withRemeshOptions(std::set<std::string> own) {
   own.insert({"base-faces", "feature-angle", "min-component-faces", "max-faces", "smoothing-sweeps",
-              "stages", "retriangulation", "skinny-where-flat", "cap-angle", "base-splits"});
+              "stages", "retriangulation", "skinny-where-flat", "cap-angle", "base-splits",
+              "grid-refinement"});
   return own;
 }
 
@@ -43,6 +44,14 @@ inline bool retriangulateByError(const Args& args, const std::string& fallback) 
   return s == "error";
 }
 
+// An option that is on unless the command line says --NAME off.
+inline bool onOff(const Args& args, const std::string& name) {
+  const std::string value = args.get(name, "on");
+  if (value != "on" && value != "off")
+    throw Error("--" + name + ": expected on or off, got '" + value + "'");
+  return value == "on";
+}
+
 // `levelsOfDetail`: for lod, sweep, demo and the viewer, whose coarsest level is the
 // base: --stages and --retriangulation default to vertex and error (the base as close
 // to the input as the remesher can make it; docs/LOD.md), elsewhere to auto and shape.
@@ -60,10 +69,8 @@ inline RemeshOptions remeshOptions(const Args& args, bool levelsOfDetail = false
   // the whole budget instead, where it defaults to BudgetSearchOptions' fraction.
   o.skinnyWhereFlat = args.real("skinny-where-flat", 0.0, 0.0, 1.0);
   o.capAngle = args.real("cap-angle", o.capAngle, 0.0, 180.0);
-  const std::string splits = args.get("base-splits", "on");
-  if (splits != "on" && splits != "off")
-    throw Error("--base-splits: expected on or off, got '" + splits + "'");
-  o.splitFoldingFaces = splits == "on";
+  o.splitFoldingFaces = onOff(args, "base-splits");
+  o.refineGrid = onOff(args, "grid-refinement");
   return o;
 }
 

@@ -78,6 +78,7 @@ Json remeshJson(const RemeshReport& r) {
                               .add("made", r.result.baseSplits)
                               .add("refused", r.result.baseSplitsRefused)
                               .add("at_points", r.result.baseSplitsAtPoints))
+      .add("grid_refinement", Json::object().add("moves", r.result.gridRefinementMoves))
       .add("grid_map", Json::object()
                            .add("used", r.result.gridMap)
                            .add("straightened_folds", r.result.straightenedFolds)

@@ -42,6 +42,17 @@ bool facesAlong(const TriMesh& mesh, const Connectivity& conn, const SurfacePoin
   return false;
 }
 
+bool foldedAgainst(const TriMesh& mesh, const Connectivity& conn,
+                   const std::array<Eigen::Vector3d, 3>& x, const std::array<SurfacePoint, 3>& at,
+                   double tinyArea, bool& degenerate) {
+  const Eigen::Vector3d n = (x[1] - x[0]).cross(x[2] - x[0]);
+  degenerate = n.norm() <= tinyArea;
+  if (degenerate) return true;
+  for (const SurfacePoint& p : at)
+    if (facesAlong(mesh, conn, p, n)) return false;
+  return true;
+}
+
 SurfaceWalker::SurfaceWalker(const TriMesh& mesh, const std::vector<std::array<int, 2>>& stops)
     : mesh_(mesh), conn_(mesh.F, static_cast<int>(mesh.V.rows())), stop_(conn_.numEdges(), 0) {
   for (const auto& [a, b] : stops) {

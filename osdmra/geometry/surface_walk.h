@@ -49,6 +49,19 @@ bool barycentricIn(const TriMesh& mesh, int t, const Eigen::Vector3d& x,
 bool facesAlong(const TriMesh& mesh, const Connectivity& conn, const SurfacePoint& p,
                 const Eigen::Vector3d& n);
 
+/// The area (norm of the edges' cross product) at or under which a triangle counts as of
+/// none, for a mesh of bounding-box diagonal `diagonal`.
+inline double tinyAreaFor(double diagonal) {
+  return 1e-14 * diagonal * diagonal;
+}
+
+/// Whether the triangle with corners `x`, sampled at `at` on `mesh`, is folded against it:
+/// of no area (at most `tinyArea`: then `degenerate` is set) or facing along the mesh
+/// (facesAlong) under none of its corners.
+bool foldedAgainst(const TriMesh& mesh, const Connectivity& conn,
+                   const std::array<Eigen::Vector3d, 3>& x, const std::array<SurfacePoint, 3>& at,
+                   double tinyArea, bool& degenerate);
+
 /// Walks on a triangle mesh (which must outlive the walker). A walk from point p
 /// along displacement d goes straight: d is taken in the plane of the face it is in,
 /// and where it leaves the face its remainder is unfolded into the next face (same

@@ -27,18 +27,8 @@ using Where = SurfacePoint;
 bool folded(const TriMesh& m, const std::vector<Where>& where, const std::array<int, 3>& t,
             const TriMesh& input, const Connectivity& inputConn, double tinyArea,
             bool& degenerate) {
-  const Vec3 a = m.V.row(t[0]), b = m.V.row(t[1]), c = m.V.row(t[2]);
-  const Vec3 n = (b - a).cross(c - a);
-  degenerate = n.norm() <= tinyArea;
-  if (degenerate) return true;
-  for (int v : t)
-    if (facesAlong(input, inputConn, where[v], n)) return false;
-  return true;
-}
-
-// The area under which a triangle counts as of none, for an input of this diagonal.
-double tinyAreaFor(double diagonal) {
-  return 1e-14 * diagonal * diagonal;
+  return foldedAgainst(input, inputConn, {m.V.row(t[0]), m.V.row(t[1]), m.V.row(t[2])},
+                       {where[t[0]], where[t[1]], where[t[2]]}, tinyArea, degenerate);
 }
 
 // The disks of the clean-up's second stage solve for at most this many times the grid's

@@ -78,6 +78,7 @@ Remeshing cleaned(const Remeshing& common, Sampling sampling, const TriMesh& inp
                   const Progress& progress, const std::function<void()>& lastResort = {}) {
   Remeshing out = common;
   out.gridMap = nameOf(sampling.map);
+  out.gridRefinementMoves = sampling.grid.refinementMoves;
   (sampling.map == remeshing::GridMap::exact ? out.exactFolds : out.straightenedFolds) =
       sampling.folds;
   remeshing::Resampled& grid = sampling.grid;
@@ -213,13 +214,14 @@ struct GridSampler {
   const SurfaceWalker& walker;
   const remeshing::Features& features;
   int levels = 0;
+  bool refine = true;  // RemeshOptions::refineGrid
 
   Sampling operator()(const remeshing::Simplification& s, const remeshing::BaseCharts& charts,
                       remeshing::GridMap map, const Progress& progress) const {
     Sampling sampling;
     sampling.map = map;
     sampling.grid = remeshing::resample(input, walker.connectivity(), features.list, s, charts,
-                                        levels, map, progress);
+                                        levels, map, progress, refine);
     sampling.folded = remeshing::foldedTriangleFlags(sampling.grid.mesh, sampling.grid.where, input,
                                                      walker.connectivity());
     sampling.folds = std::count(sampling.folded.begin(), sampling.folded.end(), 1);
@@ -337,7 +339,7 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
                             const remeshing::Features& features,
                             const remeshing::Simplification& simplified,
                             const remeshing::BaseCharts& simplifiedCharts, int splitRoom,
-                            const Progress& progress) {
+                            bool refineGrid, const Progress& progress) {
   using namespace remeshing;
   const Simplification* s = &simplified;
   const BaseCharts* charts = &simplifiedCharts;
@@ -355,7 +357,7 @@ Remeshing sampledAndCleaned(const Remeshing& common, const TriMesh& input,
   // folds less made the shared corpus's remeshes farther from their scans (RMS 1.021x,
   // Hausdorff 1.041x) than cleaning up the exact one only where it folds none (1.012x,
   // 1.008x), for the same 15 runs of 96 spared the clean-up (docs/REMESH.md).
-  const GridSampler sampleOver{input, walker, features, common.levels};
+  const GridSampler sampleOver{input, walker, features, common.levels, refineGrid};
   auto sample = [&](GridMap map, const Progress& p) { return sampleOver(*s, *charts, map, p); };
   Remeshing out = common;
   Sampling first = sample(GridMap::straightened, progress);
@@ -474,8 +476,8 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
     return options.splitFoldingFaces ? static_cast<int>(std::max(0LL, room / 2)) : 0;
   };
   const int room = splitRoom(options.baseFaces);
-  Remeshing best =
-      sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, room, progress);
+  Remeshing best = sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts, room,
+                                     options.refineGrid, progress);
   // Where no vertex could go under the last stage, the base is over size whatever the
   // splits. If defects are left, splits up to 10% over the size it stopped at are tried
   // too, and kept where they leave fewer: chosen by the grid's folds alone, as above, they
@@ -486,7 +488,7 @@ Remeshing remeshedOver(const TriMesh& input, const CrossingPairs* inputCrossings
   const int overSizeRoom = splitRoom(s.base.F.rows());
   if (overSizeRoom > room && defectsBeyondInput(best) > 0) {
     Remeshing more = sampledAndCleaned(out, input, inputCrossings, walker, features, s, charts,
-                                       overSizeRoom, progress);
+                                       overSizeRoom, options.refineGrid, progress);
     if (defectsBeyondInput(more) < defectsBeyondInput(best)) best = std::move(more);
   }
   return best;

@@ -155,6 +155,11 @@ struct RemeshOptions {
   /// again within 10% of the size the simplification stopped at, kept where it leaves
   /// fewer defects beyond the input's own.
   bool splitFoldingFaces = true;
+  /// Make each base face's grid level by level in its domain, keeping each level's
+  /// triangles from folding where a step of a point in the domain mends them
+  /// (grid_refinement.h); off: the uniform grid, as sampled until 2026-12-03
+  /// (docs/REMESH.md compares the two).
+  bool refineGrid = true;
   /// Take the input's folds out before simplifying it (unfold.h): each fold's corners
   /// moved a short way on the surface where that leaves fewer folds.
   bool unfoldInput = true;
@@ -205,6 +210,9 @@ struct Remeshing {
   /// pairs) each left after the clean-up (-1: not cleaned up, as the first map's clean-up
   /// left none).
   std::string gridMap = "straightened";
+  /// Steps the kept grid's refinement took in base faces' domains to keep its levels from
+  /// folding (grid_refinement.h); the folds counted next are those it left.
+  int gridRefinementMoves = 0;
   long long straightenedFolds = 0, exactFolds = -1;
   long long straightenedDefects = -1, exactDefects = -1;
   /// How much the clean-up ran: flipped and zero-area triangles it found, points it

@@ -12,6 +12,7 @@
 #include "osdmra/geometry/normals.h"
 #include "osdmra/remesh/charts.h"
 #include "osdmra/remesh/fan_chart.h"
+#include "osdmra/remesh/grid_refinement.h"
 #include "osdmra/remesh/planar.h"
 
 namespace osdmra::remeshing {
@@ -77,7 +78,7 @@ class Resampler {
     alongBoundary_ = std::move(along.boundary);
   }
 
-  Resampled run(int levels, GridMap map, const Progress& progress);
+  Resampled run(int levels, GridMap map, const Progress& progress, bool refine);
 
  private:
   bool isBoundaryEdge(int p, int q) const {
@@ -99,6 +100,8 @@ class Resampler {
   SurfacePoint onLine(const Line& path, double at) const;
   int edgePoint(int f, int p, int q, int step, const std::array<double, 3>& bary);
   void gridOfFace(int f);
+  int refineFace(int f, GridMap map, std::vector<Vec3>& positions);
+  bool folded(const std::array<int, 3>& t, const std::vector<Vec3>& positions) const;
   Cone coneOf(int x) const;
   double angleAround(int x, const Cone& cone, const Vec3& at, const SurfacePoint& where) const;
   SurfacePoint pointAround(int x, const Cone& cone, double angle, double radius) const;
@@ -130,6 +133,9 @@ class Resampler {
   std::unordered_map<long long, Line> lines_;  // by base edge p * nbv + q, p < q
   std::vector<Job> jobs_;                      // per vertex after the base vertices
   std::vector<std::array<int, 3>> faces_;
+  std::vector<std::vector<int>> faceGrids_;  // per base face: gridOfFace()'s point ids
+  std::vector<char> interior_;               // per job: inside its base face (refineFace)
+  double tinyArea_ = 0;
   Resampled out_;
 };
 
@@ -346,13 +352,51 @@ void Resampler::gridOfFace(int f) {
         slot = edgePoint(f, p, q, step, bary);
       } else {
         slot = newPoint({f, bary}, true, -1);
+        interior_.resize(jobs_.size(), 0);
+        interior_.back() = 1;
       }
     }
+  faceGrids_.push_back(id);
   for (int i = 0; i < N; ++i)
     for (int j = 0; i + j < N; ++j) {
       faces_.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
       if (i + j + 1 < N) faces_.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
     }
+}
+
+// Whether output triangle t (grid point ids), as placed, is folded as the clean-up counts
+// it (cleanup.h's foldedTriangles): facing against the input under each of its corners,
+// or of no area.
+bool Resampler::folded(const std::array<int, 3>& t, const std::vector<Vec3>& positions) const {
+  const int nbv = static_cast<int>(base_.V.rows());
+  const auto at = [&](int v) -> Vec3 {
+    return v < nbv ? Vec3(out_.mesh.V.row(v).transpose()) : positions[v - nbv];
+  };
+  bool degenerate = false;
+  return foldedAgainst(input_, inputConn_, {at(t[0]), at(t[1]), at(t[2])},
+                       {out_.where[t[0]], out_.where[t[1]], out_.where[t[2]]}, tinyArea_,
+                       degenerate);
+}
+
+// The interior points of base face f's grid, placed level by level through the map and
+// kept from folding their level's triangles where a step in the face's domain mends them
+// (grid_refinement.h); the points on its sides are placed already. Returns the steps kept.
+int Resampler::refineFace(int f, GridMap map, std::vector<Vec3>& positions) {
+  const int N = N_, nbv = static_cast<int>(base_.V.rows());
+  const std::vector<int>& id = faceGrids_[f];
+  const auto point = [&](int i, int j) { return id[static_cast<std::size_t>(i) * (N + 1) + j]; };
+  GridCallbacks grid;
+  grid.place = [&](int i, int j, const Vec2& uv) {
+    const int v = point(i, j);
+    place({f, {1 - uv.x() - uv.y(), uv.x(), uv.y()}}, map, out_.where[v], positions[v - nbv]);
+  };
+  grid.folded = [&](const std::array<int, 2>& a, const std::array<int, 2>& b,
+                    const std::array<int, 2>& c) {
+    return folded({point(a[0], a[1]), point(b[0], b[1]), point(c[0], c[1])}, positions);
+  };
+  int levels = 0;
+  while ((1 << levels) < N) ++levels;
+  return refineGrid(levels, grid);
 }
 
 // Input vertex x's cone: the angle of each of its faces at x (in its fan's order) and
@@ -484,7 +528,7 @@ void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
   }
 }
 
-Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
+Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool refine) {
   N_ = 1 << levels;
   const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
   // Base vertices are input vertices: a corner of any of their input triangles.
@@ -518,6 +562,10 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
   for (std::size_t k = 0; k < s_.added.size(); ++k)
     out_.mesh.V.row(s_.added[k].base) = addedAt[k].transpose();
   std::vector<Vec3> positions(jobs_.size());
+  interior_.resize(jobs_.size(), 0);
+  tinyArea_ = tinyAreaFor(boundingBoxDiagonal(input_.V));
+  // The points on base edges first, each independent of the others; then each base
+  // face's interior, level by level (refineFace), the faces independent of each other.
   const int chunks = numChunks(n, 1 << 12);
   constexpr int kSteps = 64;  // progress reports, and the pieces each chunk works in
   std::atomic<int> done{0};
@@ -525,11 +573,19 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress) {
     for (int piece = 0; piece < kSteps; ++piece) {
       const int from = begin + (end - begin) * piece / kSteps;
       const int to = begin + (end - begin) * (piece + 1) / kSteps;
-      for (int i = from; i < to; ++i) place(jobs_[i], map, out_.where[nbv + i], positions[i]);
+      for (int i = from; i < to; ++i)
+        if (!refine || !interior_[i]) place(jobs_[i], map, out_.where[nbv + i], positions[i]);
       ++done;
       if (chunk == 0 && progress) progress("resample", double(done) / (chunks * kSteps));
     }
   });
+  if (refine) {
+    std::atomic<int> moves{0};
+    forChunks(nb, numChunks(nb, 16), [&](int, int begin, int end) {
+      for (int f = begin; f < end; ++f) moves += refineFace(f, map, positions);
+    });
+    out_.refinementMoves = moves;
+  }
   if (progress) progress("resample", 1.0);
   for (int v = 0; v < nbv; ++v) spreadCorners(v, positions);
   for (int i = 0; i < n; ++i) out_.mesh.V.row(nbv + i) = positions[i].transpose();
@@ -586,9 +642,10 @@ std::vector<double> spreadAround(const std::vector<double>& angles, double total
 
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
-                   const BaseCharts& charts, int levels, GridMap map, const Progress& progress) {
+                   const BaseCharts& charts, int levels, GridMap map, const Progress& progress,
+                   bool refine) {
   Resampler r(input, inputConn, inputFeatures, s, charts);
-  return r.run(levels, map, progress);
+  return r.run(levels, map, progress, refine);
 }
 
 }  // namespace osdmra::remeshing

@@ -38,6 +38,9 @@ struct Resampled {
   std::vector<SurfacePoint> where;  ///< each vertex's place on the input
   std::vector<char> free;           ///< grid points not on a base vertex, feature or boundary
   std::vector<long long> line;      ///< for points on base edges: the edge; -1 elsewhere
+  /// Steps the grid's refinement took in base faces' domains to mend folds
+  /// (grid_refinement.h).
+  int refinementMoves = 0;
 };
 
 /// The map that takes a grid point from its base face to the input. Both are
@@ -80,6 +83,6 @@ std::vector<double> spreadAround(const std::vector<double>& angles, double total
 Resampled resample(const TriMesh& input, const Connectivity& inputConn,
                    const std::vector<std::array<int, 2>>& inputFeatures, const Simplification& s,
                    const BaseCharts& charts, int levels, GridMap map = GridMap::straightened,
-                   const Progress& progress = {});
+                   const Progress& progress = {}, bool refine = true);
 
 }  // namespace osdmra::remeshing

@@ -368,6 +368,7 @@ TEST_F(Cli, RemeshAnyMeshAndCutNonManifoldEdges) {
   rejects("--stages edge", "--stages: expected auto, vertex or mesh, got 'edge'");
   rejects("--retriangulation fan", "--retriangulation: expected shape or error, got 'fan'");
   rejects("--base-splits yes", "--base-splits: expected on or off, got 'yes'");
+  rejects("--grid-refinement no", "--grid-refinement: expected on or off, got 'no'");
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   // The same surface as a triangle soup (every face with its own three vertices, as an
   // STL file turned into OBJ) is welded first, and remeshes without defects.

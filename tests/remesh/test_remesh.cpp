@@ -306,6 +306,7 @@ TEST(Remesh, SplitsFurtherWhereTheBaseIsOverSizeAndDefectsAreLeft) {
   RemeshOptions o = slab.options;
   o.stages = StageRelaxation::perVertex;
   o.splitFoldingFaces = false;
+  o.refineGrid = false;  // the uniform grid, whose folds the splits are chosen by
   const Remeshing without = remesh(input, o);
   ASSERT_GT(without.base.F.rows(), 1.1 * o.baseFaces) << "a base over size";
   ASSERT_GT(defectsBeyondInput(without), 0);
@@ -567,6 +568,7 @@ TEST(Remesh, SamplesThroughTheExactMapWhereItFoldsNothing) {
   RemeshOptions o;
   o.baseFaces = 20;
   o.levels = 3;
+  o.refineGrid = false;  // the uniform grids, whose folds these shapes are made for
   auto startsFromItsFolds = [](const Remeshing& r) {
     EXPECT_EQ(r.cleanupDefectsBefore, r.gridMap == "exact" ? r.exactFolds : r.straightenedFolds);
   };
@@ -599,6 +601,29 @@ TEST(Remesh, SamplesThroughTheExactMapWhereItFoldsNothing) {
   startsFromItsFolds(smooth);
 }
 
+// The grid refined level by level (grid_refinement.h) on the torus above, whose uniform
+// grids fold: it folds fewer triangles as sampled, and the clean-up moves fewer points.
+TEST(Remesh, RefinesTheGridWhereTheUniformOneFolds) {
+  RemeshOptions o;
+  o.baseFaces = 20;
+  o.levels = 3;
+  o.unfoldInput = false;
+  o.splitFoldingFaces = false;
+  const TriMesh input = subdivide(shapes::torus(), 2, Scheme::Loop, 0.02, 7);
+  o.refineGrid = false;
+  const Remeshing uniform = remesh(input, o);
+  o.refineGrid = true;
+  const Remeshing refined = remesh(input, o);
+  ASSERT_GT(uniform.straightenedFolds, 0);
+  EXPECT_EQ(uniform.gridRefinementMoves, 0);
+  EXPECT_GT(refined.gridRefinementMoves, 0);
+  EXPECT_LT(refined.straightenedFolds, uniform.straightenedFolds);
+  EXPECT_LT(refined.cleanupMovedPoints, uniform.cleanupMovedPoints);
+  EXPECT_EQ(refined.flippedTriangles + refined.degenerateTriangles + refined.selfIntersections, 0);
+  EXPECT_EQ(topology(refined.mesh), topology(input));
+  validate(refined.mesh, "remeshed");
+}
+
 TEST(Remesh, SplitsBaseFacesWhereBothGridsFold) {
   // Noisy inputs whose grids fold through both maps: the base faces holding the folds
   // are split (base_flips.h), within 10% of the size asked, and the split base kept
@@ -606,6 +631,7 @@ TEST(Remesh, SplitsBaseFacesWhereBothGridsFold) {
   RemeshOptions o;
   o.levels = 3;
   o.unfoldInput = false;  // the noise's folds left in
+  o.refineGrid = false;   // the uniform grids, whose folds these shapes are made for
   int split = 0;
   for (const auto& [input, faces] :
        {std::pair{subdivide(shapes::torus(), 3, Scheme::Loop, 0.025, 3), 150},
