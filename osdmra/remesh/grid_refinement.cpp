@@ -32,7 +32,6 @@ class Refinement {
 
  private:
   Vec2& at(int i, int j) { return domain_[static_cast<std::size_t>(i) * (N_ + 1) + j]; }
-  bool interior(int i, int j) const { return i > 0 && j > 0 && i + j < N_; }
 
   // Level l's new interior points at the domain midpoints of the level-(l-1) edges they
   // split: along i, along j, or across the diagonal (i + 1, j - 1).
