@@ -140,8 +140,7 @@ Row osdmraAt(const AnalysedSurface& a, double encodeSetup, double bitsPerVertex,
   Row r{"osdmra", std::to_string(bitsPerVertex)};
   const long long n = a.hierarchy().numVertices(a.levels());
   auto t0 = Clock::now();
-  const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(),
-                                RateTarget::bitsPerVertex(bitsPerVertex, n), o);
+  const Compressed z = compress(a, RateTarget::bitsPerVertex(bitsPerVertex, n), o);
   r.encodeSeconds = encodeSetup + secondsSince(t0);
   r.bytes = z.bytes.size();
   r.psnrVertex = z.psnrVertices;

@@ -131,9 +131,7 @@ int cmdCompress(const Argv& argv) {
       choice ? std::move(*choice->surface) : AnalysedSurface(s.mesh, options, in, opt.progress);
   const long long vertices = a.hierarchy().numVertices(a.levels());
   const auto t1 = Clock::now();
-  const Compressed z =
-      choice ? std::move(*choice->compressed)
-             : compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+  const Compressed z = choice ? std::move(*choice->compressed) : compress(a, target, codec);
   const double tEncode = choice ? 0.0 : seconds(t1);
   writeFileAtomically(out, [&](std::ostream& o) {
     o.write(reinterpret_cast<const char*>(z.bytes.data()),

@@ -339,6 +339,10 @@ LodErrors AnalysedSurface::errors(const Approximation& a, const DistanceOptions&
   return e;
 }
 
+Compressed compress(const AnalysedSurface& a, const RateTarget& target, const CodecOptions& codec) {
+  return compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+}
+
 namespace {
 
 // Whether a scheme's stream at the target is better than the other's: at a size the
@@ -355,8 +359,7 @@ bool better(const std::optional<Compressed>& a, const std::optional<Compressed>&
 bool reaches(const AnalysedSurface& a, std::size_t bytes, const RateTarget& target,
              CodecOptions codec) {
   codec.measureSurface = target.measure == PsnrMeasure::Surface;
-  const Compressed z = compress(a.bank(), a.decomposition(), a.canonicalPositions(),
-                                RateTarget::bytes(static_cast<double>(bytes)), codec);
+  const Compressed z = compress(a, RateTarget::bytes(static_cast<double>(bytes)), codec);
   return (codec.measureSurface ? z.psnrSurface : z.psnrVertices) >= target.value;
 }
 
@@ -377,7 +380,7 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
   // The stream at the target, or none where the whole stream cannot reach a PSNR asked.
   auto coded = [&](const AnalysedSurface& a) -> std::optional<Compressed> {
     try {
-      return compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+      return compress(a, target, codec);
     } catch (const Error&) {
       if (target.kind != RateTarget::Kind::Psnr) throw;
       return std::nullopt;
@@ -391,7 +394,7 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
       reaches(loop, byLinear->bytes.size(), target, codec))
     byLoop = coded(loop);
   if (!byLoop && !byLinear)  // neither reaches the PSNR: say so as compress does
-    compress(loop.bank(), loop.decomposition(), loop.canonicalPositions(), target, codec);
+    compress(loop, target, codec);
   CodingSchemeChoice c;
   c.loopBytes = byLoop ? (whole ? byLoop->wholeBytes : byLoop->bytes.size()) : 0;
   c.linearBytes = byLinear ? (whole ? byLinear->wholeBytes : byLinear->bytes.size()) : 0;
@@ -405,8 +408,7 @@ CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions optio
   // The whole stream was coded without its surface distance; measure the winner's.
   if (whole && measureWinner) {
     codec.measureSurface = true;
-    const AnalysedSurface& a = *c.surface;
-    c.compressed = compress(a.bank(), a.decomposition(), a.canonicalPositions(), target, codec);
+    c.compressed = compress(*c.surface, target, codec);
   }
   return c;
 }

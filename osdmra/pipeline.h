@@ -245,6 +245,10 @@ struct CodingSchemeChoice {
   /// Its stream at the target with `codec`'s options (a PSNR measured as they say).
   std::optional<Compressed> compressed;
 };
+/// compress() of an analysed surface: its bank, decomposition and canonical positions.
+Compressed compress(const AnalysedSurface& a, const RateTarget& target = {},
+                    const CodecOptions& codec = {});
+
 CodingSchemeChoice chooseCodingScheme(const TriMesh& mesh, AnalysisOptions options,
                                       CodecOptions codec, const std::string& source = "",
                                       const RateTarget& target = RateTarget::whole());

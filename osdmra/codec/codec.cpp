@@ -33,10 +33,11 @@ double tangentWeight(const OszHeader& h, const LocalFrames& f, Eigen::Index e) {
   return std::clamp(w, static_cast<double>(h.tangentFloor), static_cast<double>(h.tangentWeight));
 }
 
-// World units of one step of each component of edge e of level j, in the frames f.
-std::array<double, 3> componentSteps(const OszHeader& h, int j, const LocalFrames& f,
+// World units of one step of each component of edge e, in the frames f, where the
+// normal component's step is `normal` (normalStep, once per level).
+std::array<double, 3> componentSteps(double normal, const OszHeader& h, const LocalFrames& f,
                                      Eigen::Index e) {
-  const double normal = normalStep(h, j), tangential = normal / tangentWeight(h, f, e);
+  const double tangential = normal / tangentWeight(h, f, e);
   return {normal, tangential, tangential};
 }
 
@@ -45,8 +46,9 @@ std::array<double, 3> componentSteps(const OszHeader& h, int j, const LocalFrame
 Points detailsFromSteps(const OszHeader& h, int j, const LocalFrames& frames,
                         const std::vector<double>& steps) {
   Points local(frames.normal.rows(), 3);
+  const double normal = normalStep(h, j);
   for (Eigen::Index e = 0; e < local.rows(); ++e) {
-    const std::array<double, 3> unit = componentSteps(h, j, frames, e);
+    const std::array<double, 3> unit = componentSteps(normal, h, frames, e);
     for (int c = 0; c < 3; ++c) local(e, c) = steps[3 * static_cast<std::size_t>(e) + c] * unit[c];
   }
   return toWorld(frames, local);
@@ -57,9 +59,9 @@ std::vector<std::int32_t> quantiseLevel(const OszHeader& h, int j, const LocalFr
                                         const Points& detail) {
   const Points local = toLocal(frames, detail);
   std::vector<std::int32_t> q(3 * static_cast<std::size_t>(local.rows()));
-  const double limit = std::ldexp(1.0, kMaxPlanes) - 1;
+  const double limit = std::ldexp(1.0, kMaxPlanes) - 1, normal = normalStep(h, j);
   for (Eigen::Index e = 0; e < local.rows(); ++e) {
-    const std::array<double, 3> unit = componentSteps(h, j, frames, e);
+    const std::array<double, 3> unit = componentSteps(normal, h, frames, e);
     for (int c = 0; c < 3; ++c) {
       const double v = std::trunc(local(e, c) / unit[c]);  // dead zone around 0 (SPIHT's)
       if (!(std::abs(v) <= limit))

@@ -128,13 +128,12 @@ class Resampler {
   mutable std::once_flag widerMade_;
   mutable std::optional<BaseCharts> wider_;
   // The output under construction.
-  int N_ = 1;
+  int levels_ = 0, N_ = 1;
   std::unordered_map<std::uint64_t, int> edgePoints_;
   std::unordered_map<long long, Line> lines_;  // by base edge p * nbv + q, p < q
   std::vector<Job> jobs_;                      // per vertex after the base vertices
   std::vector<std::array<int, 3>> faces_;
   std::vector<std::vector<int>> faceGrids_;  // per base face: gridOfFace()'s point ids
-  std::vector<char> interior_;               // per job: inside its base face (refineFace)
   double tinyArea_ = 0;
   Resampled out_;
 };
@@ -352,8 +351,6 @@ void Resampler::gridOfFace(int f) {
         slot = edgePoint(f, p, q, step, bary);
       } else {
         slot = newPoint({f, bary}, true, -1);
-        interior_.resize(jobs_.size(), 0);
-        interior_.back() = 1;
       }
     }
   faceGrids_.push_back(id);
@@ -394,9 +391,7 @@ int Resampler::refineFace(int f, GridMap map, std::vector<Vec3>& positions) {
                     const std::array<int, 2>& c) {
     return folded({point(a[0], a[1]), point(b[0], b[1]), point(c[0], c[1])}, positions);
   };
-  int levels = 0;
-  while ((1 << levels) < N) ++levels;
-  return refineGrid(levels, grid);
+  return refineGrid(levels_, grid);
 }
 
 // Input vertex x's cone: the angle of each of its faces at x (in its fan's order) and
@@ -529,6 +524,7 @@ void Resampler::spreadCorners(int v, std::vector<Vec3>& positions) {
 }
 
 Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool refine) {
+  levels_ = levels;
   N_ = 1 << levels;
   const int nbv = static_cast<int>(base_.V.rows()), nb = static_cast<int>(base_.F.rows());
   // Base vertices are input vertices: a corner of any of their input triangles.
@@ -562,7 +558,6 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool
   for (std::size_t k = 0; k < s_.added.size(); ++k)
     out_.mesh.V.row(s_.added[k].base) = addedAt[k].transpose();
   std::vector<Vec3> positions(jobs_.size());
-  interior_.resize(jobs_.size(), 0);
   tinyArea_ = tinyAreaFor(boundingBoxDiagonal(input_.V));
   // The points on base edges first, each independent of the others; then each base
   // face's interior, level by level (refineFace), the faces independent of each other.
@@ -576,7 +571,8 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool
       const int from = begin + (end - begin) * piece / kSteps;
       const int to = begin + (end - begin) * (piece + 1) / kSteps;
       for (int i = from; i < to; ++i)
-        if (!refine || !interior_[i]) place(jobs_[i], map, out_.where[nbv + i], positions[i]);
+        if (!refine || out_.line[nbv + i] >= 0)  // on a base edge (refineFace: the others)
+          place(jobs_[i], map, out_.where[nbv + i], positions[i]);
       ++done;
       if (chunk == 0 && progress)
         progress("resample", firstShare * double(done) / (chunks * kSteps));

@@ -683,8 +683,7 @@ TEST(ChooseCodingScheme, ComparesTheStreamsAtTheRateAsked) {
       AnalysisOptions loopOptions = options;
       loopOptions.scheme = Scheme::Loop;
       const AnalysedSurface loop(mesh, loopOptions);
-      const Compressed z = compress(loop.bank(), loop.decomposition(), loop.canonicalPositions(),
-                                    RateTarget::bytes(static_cast<double>(won)), codec);
+      const Compressed z = compress(loop, RateTarget::bytes(static_cast<double>(won)), codec);
       EXPECT_LT(z.psnrSurface, dB);
     } else {
       searchedLoop = true;
