@@ -57,6 +57,7 @@ struct Job {
   std::array<double, 3> bary{};
   const Line* line = nullptr;
   double at = 0;
+  int across = -1;  // on a base edge between two faces: the face other than `face`
 };
 
 struct Cone;
@@ -93,7 +94,9 @@ class Resampler {
   bool imageAboutCorner(const BaseCharts& charts, int f, int t, std::array<Vec2, 3>& image) const;
   bool walkTo(const BaseCharts& charts, int f, const std::array<double, 3>& bary, int start,
               SurfacePoint& found) const;
-  SurfacePoint straight(int f, const std::array<double, 3>& bary, SurfacePoint from) const;
+  SurfacePoint straight(const Job& job, SurfacePoint from) const;
+  SurfacePoint straightIn(int f, const std::array<double, 3>& bary, SurfacePoint from,
+                          bool& arrived) const;
   int newPoint(const Job& job, bool isFree, long long edge);
   void place(const Job& job, GridMap map, SurfacePoint& where, Vec3& position) const;
   Line lineUnder(int f, int p, int q, const std::vector<std::vector<int>>& along) const;
@@ -232,13 +235,29 @@ bool Resampler::walkTo(const BaseCharts& charts, int f, const std::array<double,
 // removed vertex: a cylinder's cap), the walk is made again in a chart of two rings, so
 // that neighbouring grid points do not go through different maps (they folded the
 // cap); `from` is kept where neither arrives.
-SurfacePoint Resampler::straight(int f, const std::array<double, 3>& bary,
-                                 SurfacePoint from) const {
+SurfacePoint Resampler::straightIn(int f, const std::array<double, 3>& bary, SurfacePoint from,
+                                   bool& arrived) const {
   SurfacePoint found;
-  if (walkTo(charts_, f, bary, from.triangle, found) ||
-      walkTo(wider(), f, bary, from.triangle, found))
-    return found;
-  return from;
+  arrived = walkTo(charts_, f, bary, from.triangle, found) ||
+            walkTo(wider(), f, bary, from.triangle, found);
+  return arrived ? found : from;
+}
+
+// A point on a base edge between two faces is where either face's map takes it: the
+// other face's charts reach it where the first one's do not (each face's charts lay the
+// faces around its corners their own way, so a walk may stop in one and arrive in the
+// other). Falling back to the exact inverse there put it up to several grid steps from
+// where the other face's grid points next to it are sampled, and folded the triangles
+// between (armadillo, the decimated knight: most folds left along base edges).
+SurfacePoint Resampler::straight(const Job& job, SurfacePoint from) const {
+  bool arrived = false;
+  const SurfacePoint found = straightIn(job.face, job.bary, from, arrived);
+  if (arrived || job.across < 0) return found;
+  std::array<double, 3> bary{};  // the same point in the other face's coordinates
+  for (int k = 0; k < 3; ++k)
+    for (int m = 0; m < 3; ++m)
+      if (base_.F(job.across, m) == base_.F(job.face, k)) bary[m] = job.bary[k];
+  return straightIn(job.across, bary, from, arrived);
 }
 
 // Where a grid point lies on the input: on the input's line under its base edge, or at
@@ -249,7 +268,7 @@ void Resampler::place(const Job& job, GridMap map, SurfacePoint& where, Vec3& po
     where = onLine(*job.line, job.at);
   } else {
     where = traceToInput(s_.history, job.face, job.bary);
-    if (map == GridMap::straightened) where = straight(job.face, job.bary, where);
+    if (map == GridMap::straightened) where = straight(job, where);
   }
   position = Vec3::Zero();
   for (int i = 0; i < 3; ++i)
@@ -320,6 +339,8 @@ int Resampler::edgePoint(int f, int p, int q, int step, const std::array<double,
   const long long edge = static_cast<long long>(p) * nbv + q;
   const bool feature = featureEdge(p, q), boundary = isBoundaryEdge(p, q);
   Job job{f, bary};
+  const int h = baseConn_.edgeHalfedge(baseConn_.findEdge(p, q));
+  if (baseConn_.twin(h) >= 0) job.across = h / 3 == f ? baseConn_.twin(h) / 3 : h / 3;
   if (feature || boundary) {
     auto [line, first] = lines_.try_emplace(edge);
     if (first) line->second = lineUnder(f, p, q, boundary ? alongBoundary_ : alongFeature_);
@@ -578,6 +599,10 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool
         progress("resample", firstShare * double(done) / (chunks * kSteps));
     }
   });
+  // The points next to each base vertex spread where a corner would turn over, before
+  // the faces' interiors: the refinement then mends the triangles next to them (spread
+  // after it, they folded the triangles between them and the points after them).
+  for (int v = 0; v < nbv; ++v) spreadCorners(v, positions);
   if (refine) {
     std::atomic<int> moves{0}, faces{0};
     forChunks(nb, numChunks(nb, 16), [&](int chunk, int begin, int end) {
@@ -591,7 +616,6 @@ Resampled Resampler::run(int levels, GridMap map, const Progress& progress, bool
     out_.refinementMoves = moves;
   }
   if (progress) progress("resample", 1.0);
-  for (int v = 0; v < nbv; ++v) spreadCorners(v, positions);
   for (int i = 0; i < n; ++i) out_.mesh.V.row(nbv + i) = positions[i].transpose();
   out_.mesh.F.resize(static_cast<Eigen::Index>(faces_.size()), 3);
   for (std::size_t f = 0; f < faces_.size(); ++f)

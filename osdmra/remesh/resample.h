@@ -13,14 +13,16 @@
 // has one image from every face around that corner, not one per chart. Grid
 // points on feature and boundary base edges are sampled along the input's line itself
 // (the chain of input feature or boundary edges the base edge stands for), at their
-// parameter along it. The grid is laid out first; the points on base edges, independent
-// of each other, are then placed on every core, and each base face's interior after them,
-// level by level with its folds mended where each level makes them (grid_refinement.h;
-// the faces independent of each other, on every core). Last, around each base vertex where a grid
-// triangle at one of its corners spans more than a half turn of the input and comes out
-// turned over (as it does wherever its corners lie on the corner's sides, on a cone not
-// far from flat), the grid points next to the vertex are placed again in its input
-// one-ring at angles spread apart (spreadAround).
+// parameter along it; a point on a base edge between two faces, where one face's charts
+// do not reach it, is placed through the other face's. The grid is laid out first; the
+// points on base edges, independent of each other, are then placed on every core. Then,
+// around each base vertex where a grid triangle at one of its corners spans more than a
+// half turn of the input and comes out turned over (as it does wherever its corners lie
+// on the corner's sides, on a cone not far from flat), the grid points next to the vertex
+// are placed again in its input one-ring at angles spread apart (spreadAround). Last,
+// each base face's interior, level by level with its folds mended where each level makes
+// them (grid_refinement.h; the faces independent of each other, on every core), around
+// the points on its sides as they were placed.
 #pragma once
 
 #include <vector>
